@@ -1,0 +1,392 @@
+"""Catalog files (belts, threads, motors) loaded and validated into frozen SI dataclasses.
+
+A catalog file is TOML. It has a ``[source]`` table (``document``, optionally
+``location`` and ``edition``), an optional ``units`` table naming the unit of every
+numeric key, and arrays of entries ``[[belts]]``, ``[[threads]]``, ``[[motors]]`` (any
+of them). An entry may carry its own ``units`` (merged over the file's) and its own
+``source`` string. Every number is converted to SI once, here; no other module reads a
+catalog file or knows a catalog number.
+
+This module is also the one place that resolves where the built-in catalogs live: the
+``catalogs/`` folder of a source checkout, or ``beltcalc/catalogs`` inside an installed
+wheel (hatchling ``force-include``).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable
+
+from beltcalc.errors import CatalogError, UnknownNameError
+from beltcalc.units import QuantityError, conversion_factor, parse_quantity
+
+
+def builtin_dir() -> Path:
+    """Folder of the built-in catalogs (inside the wheel, or the checkout's top level)."""
+    here = Path(__file__).resolve().parent
+    for candidate in (here / "catalogs", here.parent / "catalogs"):
+        if candidate.is_dir():
+            return candidate
+    raise CatalogError(f"built-in catalogs not found next to {here} (broken installation?)")
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where a catalog entry's numbers come from."""
+
+    document: str
+    location: str = ""
+    edition: str = ""
+    path: str = ""
+
+    def __str__(self) -> str:
+        parts = [self.document, self.location, self.edition]
+        return "; ".join(p for p in parts if p)
+
+
+@dataclass(frozen=True)
+class BeltWidth:
+    """One row of a belt's width table, SI: width [m], forces [N], weight [kg/m].
+
+    ``None`` marks a value the source does not publish.
+    """
+
+    width: float
+    F_Tadm: float | None = None
+    C_spec: float | None = None
+    w_spec: float | None = None
+    breaking: float | None = None
+
+
+@dataclass(frozen=True)
+class BeltProfile:
+    """A timing-belt profile of one manufacturer, SI units.
+
+    ``F_tspec`` is the specific tooth load table: pairs (pulley speed [rad/s],
+    allowable load per tooth and belt width [N/m]).
+    """
+
+    manufacturer: str
+    profile: str
+    pitch: float
+    source: Source
+    widths: tuple[BeltWidth, ...] = ()
+    F_tspec: tuple[tuple[float, float], ...] = ()
+    z_e_max: int | None = None
+    z_min: int | None = None
+    C_spec_per_F_Tadm: float | None = None
+    damping: float | None = None
+    damping_source: str = ""
+    note: str = ""
+
+    @property
+    def name(self) -> str:
+        return f"{self.manufacturer}-{self.profile}"
+
+    def width_row(self, width: float) -> BeltWidth:
+        """The width-table row of ``width`` [m] (to 1 um), or :class:`UnknownNameError`."""
+        if not self.widths:
+            raise UnknownNameError(
+                f"{self.name} has no width table in its catalog ({self.source.path}); "
+                "give --f-tadm, --c-spec and --belt-weight for the width you use",
+                param="width",
+            )
+        for row in self.widths:
+            if abs(row.width - width) < 1e-6:
+                return row
+        listed = ", ".join(f"{r.width * 1e3:g}" for r in self.widths)
+        raise UnknownNameError(
+            f"{width * 1e3:g} mm is not a catalog width of {self.name}; the catalog has {listed} mm",
+            param="width",
+        )
+
+
+@dataclass(frozen=True)
+class Thread:
+    """A metric thread, SI: nominal diameter d, pitch P, pitch diameter d2 [m], flank angle [rad]."""
+
+    name: str
+    series: str
+    d: float
+    P: float
+    d2: float
+    flank_angle: float
+    source: Source
+
+
+@dataclass(frozen=True)
+class Motor:
+    """A servo motor's data sheet, SI: P [W], T_n, T_max [N m], J [kg m^2], speeds [rad/s]."""
+
+    name: str
+    series: str
+    P: float
+    T_n: float
+    T_max: float
+    J: float
+    n_rated: float
+    n_max: float
+    source: Source
+    efficiency: float | None = None
+
+
+# Per kind: key -> SI unit ("" for plain numbers); keys marked required must be present.
+_BELT_KEYS = {"pitch": "m", "C_spec_per_F_Tadm": "", "damping": "N*s/m"}
+_BELT_ROW_KEYS = {"width": "m", "F_Tadm": "N", "C_spec": "N", "w_spec": "kg/m", "breaking": "N"}
+_FTSPEC_KEYS = {"speed": "rad/s", "load": "N/m"}
+_THREAD_KEYS = {"d": "m", "P": "m", "d2": "m", "flank_angle": "rad"}
+_MOTOR_KEYS = {"P": "W", "T_n": "N*m", "T_max": "N*m", "J": "kg*m^2",
+               "n_rated": "rad/s", "n_max": "rad/s", "efficiency": ""}
+_TEXT_KEYS = {"manufacturer", "profile", "name", "series", "source", "note", "damping_source", "units"}
+
+
+class _Reader:
+    """Reads one catalog file; every error names the file and the key."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        try:
+            with open(path, "rb") as fh:
+                self.data = tomllib.load(fh)
+        except FileNotFoundError:
+            raise CatalogError(f"catalog file {path} does not exist") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise CatalogError(f"{path}: not valid TOML ({exc})") from None
+        except OSError as exc:
+            raise CatalogError(f"{path}: cannot be read ({exc.strerror})") from None
+        src = self.data.get("source")
+        if not isinstance(src, dict) or not isinstance(src.get("document"), str):
+            self.fail("source.document", "every catalog file needs [source] with a 'document' string")
+        self.source = Source(
+            document=src["document"], location=str(src.get("location", "")),
+            edition=str(src.get("edition", "")), path=str(path),
+        )
+        self.units = self.data.get("units", {})
+        unknown = set(self.data) - {"source", "units", "belts", "threads", "motors"}
+        if unknown:
+            self.fail(sorted(unknown)[0], "unknown top-level key (allowed: source, units, belts, threads, motors)")
+
+    def fail(self, key: str, message: str):
+        raise CatalogError(f"{self.path}: {key}: {message}")
+
+    def entries(self, kind: str) -> list[dict]:
+        items = self.data.get(kind, [])
+        if not isinstance(items, list) or not all(isinstance(e, dict) for e in items):
+            self.fail(kind, "must be an array of tables ([[" + kind + "]])")
+        return items
+
+    def text(self, entry: dict, key: str, where: str, default: str | None = None) -> str:
+        value = entry.get(key, default)
+        if not isinstance(value, str) or (default is None and not value.strip()):
+            self.fail(f"{where}.{key}", "missing or not a text")
+        return value
+
+    def numbers(self, entry: dict, keys: dict[str, str], units: dict, where: str,
+                required: Iterable[str] = (), zero_ok: Iterable[str] = ()) -> dict[str, float]:
+        """Convert the numeric ``keys`` present in ``entry`` to SI; check they are > 0
+        (or >= 0 for the keys in ``zero_ok``)."""
+        out = {}
+        for key, si_unit in keys.items():
+            if key not in entry:
+                if key in required:
+                    self.fail(f"{where}.{key}", "missing")
+                continue
+            value = entry[key]
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                self.fail(f"{where}.{key}", f"{value!r} is not a number")
+            if si_unit:
+                unit = units.get(key)
+                if not isinstance(unit, str):
+                    name = "F_tspec" if key == "load" else key
+                    self.fail(f"{where.split('.')[0]}.units.{name}", "no unit given for this key")
+                try:
+                    parse_quantity(f"1 {unit}", si_unit)
+                except QuantityError as exc:
+                    self.fail(f"{where}.units.{key}", str(exc))
+                value = value * conversion_factor(unit, si_unit)
+            low_ok = value >= 0 if key in zero_ok else value > 0
+            if not (math.isfinite(value) and low_ok):
+                bound = ">= 0" if key in zero_ok else "> 0"
+                self.fail(f"{where}.{key}", f"{entry[key]!r} must be a finite number {bound}")
+            out[key] = float(value)
+        return out
+
+    def check_keys(self, entry: dict, allowed: Iterable[str], where: str):
+        extra = set(entry) - set(allowed) - _TEXT_KEYS
+        if extra:
+            self.fail(f"{where}.{sorted(extra)[0]}", "unknown key")
+
+    def entry_source(self, entry: dict, where: str) -> Source:
+        if "source" not in entry:
+            return self.source
+        own = self.text(entry, "source", where)
+        return Source(document=own, location=self.source.document, path=str(self.path))
+
+    def entry_units(self, entry: dict, where: str) -> dict:
+        units = entry.get("units", {})
+        if not isinstance(units, dict) or not isinstance(self.units, dict):
+            self.fail(f"{where}.units", "must be a table of unit strings")
+        return {**self.units, **units}
+
+    # --- kinds -----------------------------------------------------------------
+    def belts(self) -> list[BeltProfile]:
+        out = []
+        for i, e in enumerate(self.entries("belts")):
+            where = f"belts[{i}]"
+            self.check_keys(e, [*_BELT_KEYS, "widths", "F_tspec", "z_e_max", "z_min"], where)
+            units = self.entry_units(e, where)
+            nums = self.numbers(e, _BELT_KEYS, units, where, required=["pitch"])
+            rows = []
+            for j, row in enumerate(e.get("widths", [])):
+                rw = f"{where}.widths[{j}]"
+                if not isinstance(row, dict):
+                    self.fail(rw, "must be a table")
+                self.check_keys(row, _BELT_ROW_KEYS, rw)
+                rows.append(BeltWidth(**self.numbers(row, _BELT_ROW_KEYS, units, rw, required=["width"])))
+            widths = [r.width for r in rows]
+            if any(b <= a for a, b in zip(widths, widths[1:])):
+                self.fail(f"{where}.widths", "widths must be sorted ascending, without repeats")
+            table = []
+            for j, row in enumerate(e.get("F_tspec", [])):
+                rw = f"{where}.F_tspec[{j}]"
+                if not isinstance(row, dict):
+                    self.fail(rw, "must be a table")
+                self.check_keys(row, _FTSPEC_KEYS, rw)
+                vals = self.numbers(row, _FTSPEC_KEYS, {**units, "load": units.get("F_tspec")}, rw,
+                                    required=_FTSPEC_KEYS, zero_ok=["speed"])
+                table.append((vals["speed"], vals["load"]))
+            speeds = [s for s, _ in table]
+            if any(b <= a for a, b in zip(speeds, speeds[1:])):
+                self.fail(f"{where}.F_tspec", "speeds must be sorted ascending, without repeats")
+            ints = {}
+            for key in ("z_e_max", "z_min"):
+                if key in e:
+                    if not isinstance(e[key], int) or isinstance(e[key], bool) or e[key] <= 0:
+                        self.fail(f"{where}.{key}", f"{e[key]!r} must be a whole number > 0")
+                    ints[key] = e[key]
+            out.append(BeltProfile(
+                manufacturer=self.text(e, "manufacturer", where),
+                profile=self.text(e, "profile", where),
+                source=self.source, widths=tuple(rows), F_tspec=tuple(table),
+                note=self.text(e, "note", where, ""),
+                damping_source=self.text(e, "damping_source", where, ""),
+                **nums, **ints,
+            ))
+        return out
+
+    def threads(self) -> list[Thread]:
+        out = []
+        for i, e in enumerate(self.entries("threads")):
+            where = f"threads[{i}]"
+            self.check_keys(e, _THREAD_KEYS, where)
+            nums = self.numbers(e, _THREAD_KEYS, self.entry_units(e, where), where, required=_THREAD_KEYS)
+            if nums["d2"] >= nums["d"]:
+                self.fail(f"{where}.d2", "pitch diameter must be smaller than the nominal diameter")
+            out.append(Thread(name=self.text(e, "name", where), series=self.text(e, "series", where, ""),
+                              source=self.entry_source(e, where), **nums))
+        return out
+
+    def motors(self) -> list[Motor]:
+        out = []
+        for i, e in enumerate(self.entries("motors")):
+            where = f"motors[{i}]"
+            self.check_keys(e, _MOTOR_KEYS, where)
+            nums = self.numbers(e, _MOTOR_KEYS, self.entry_units(e, where), where,
+                                required=[k for k in _MOTOR_KEYS if k != "efficiency"])
+            if nums["T_max"] < nums["T_n"]:
+                self.fail(f"{where}.T_max", "peak torque is below the rated torque")
+            if nums["n_max"] < nums["n_rated"]:
+                self.fail(f"{where}.n_max", "maximum speed is below the rated speed")
+            if nums.get("efficiency", 0.5) > 1:
+                self.fail(f"{where}.efficiency", "must be <= 1")
+            out.append(Motor(name=self.text(e, "name", where), series=self.text(e, "series", where, ""),
+                             source=self.entry_source(e, where), **nums))
+        return out
+
+
+@dataclass
+class Catalog:
+    """Every belt, thread and motor of the loaded catalog files, by name."""
+
+    belts: dict[str, BeltProfile] = field(default_factory=dict)
+    threads: dict[str, Thread] = field(default_factory=dict)
+    motors: dict[str, Motor] = field(default_factory=dict)
+    files: list[str] = field(default_factory=list)
+
+    def add_file(self, path: Path) -> None:
+        reader = _Reader(path)
+        for kind, items in (("belts", reader.belts()), ("threads", reader.threads()),
+                            ("motors", reader.motors())):
+            table = getattr(self, kind)
+            for item in items:
+                key = item.name.lower()
+                if key in table:
+                    raise CatalogError(
+                        f"{path}: {kind}: duplicate name {item.name!r} "
+                        f"(already in {_source_of(table[key]).path})"
+                    )
+                table[key] = item
+        self.files.append(str(path))
+
+    def belt(self, name: str) -> BeltProfile:
+        """A belt by its full name (``BRECO-AT10``) or by its profile alone when unique."""
+        return self._lookup("belt", self.belts, name, "belt", aliases=True)
+
+    def thread(self, name: str) -> Thread:
+        return self._lookup("thread", self.threads, name, "thread")
+
+    def motor(self, name: str) -> Motor:
+        return self._lookup("motor", self.motors, name, "motor")
+
+    def entry(self, name: str) -> BeltProfile | Thread | Motor:
+        """Any entry by name (belts by profile too), for ``beltcalc catalog show``."""
+        merged = {**self.belts, **self.threads, **self.motors}
+        return self._lookup("catalog entry", merged, name, None, aliases=True)
+
+    def _lookup(self, what: str, table: dict, name: str, param: str | None, aliases: bool = False):
+        key = name.strip().lower()
+        if key in table:
+            return table[key]
+        if aliases:
+            hits = [b for b in table.values() if isinstance(b, BeltProfile) and b.profile.lower() == key]
+            if len(hits) == 1:
+                return hits[0]
+            if len(hits) > 1:
+                names = ", ".join(sorted(h.name for h in hits))
+                raise UnknownNameError(f"{name!r} is ambiguous; say which one: {names}", param=param)
+        names = [v.name for v in table.values()]
+        if aliases:
+            names += [v.profile for v in table.values() if isinstance(v, BeltProfile)]
+        close = difflib.get_close_matches(name, names, n=3, cutoff=0.5)
+        close = close or difflib.get_close_matches(name.upper(), [n.upper() for n in names], n=3, cutoff=0.5)
+        hint = f"; did you mean {', '.join(close)}?" if close else ""
+        raise UnknownNameError(
+            f"unknown {what} {name!r}{hint} (`beltcalc catalog list` lists them)", param=param
+        )
+
+
+def _source_of(item) -> Source:
+    return item.source
+
+
+def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
+    """Load the built-in catalogs plus the user's files ``extra`` (same format).
+
+    Scenes (``catalogs/scenes/``) are not catalog files and are skipped.
+
+    >>> cat = load_catalog()
+    >>> cat.belt("AT10").width_row(0.025).F_Tadm
+    2200.0
+    """
+    catalog = Catalog()
+    root = builtin_dir()
+    for path in sorted(root.rglob("*.toml")):
+        if "scenes" not in path.relative_to(root).parts:
+            catalog.add_file(path)
+    for path in extra:
+        catalog.add_file(Path(path))
+    return catalog

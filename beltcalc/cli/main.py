@@ -1,0 +1,97 @@
+"""The ``beltcalc`` command group: lazy subcommands and the one error boundary.
+
+Subcommands are imported only when run, so ``beltcalc tension`` never imports scipy or
+matplotlib. Every :class:`~beltcalc.errors.BeltcalcError` becomes one line on stderr
+and its exit code here (1: physically impossible input, catalog or solver failure;
+2: usage: bad text, wrong unit, unknown name). ``--debug`` shows the traceback instead.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+
+import click
+
+from beltcalc import __version__
+from beltcalc.errors import BeltcalcError
+
+# name -> "module:attribute"; the module is imported only when the command runs.
+COMMANDS = {
+    "tension": "beltcalc.cli.tension:tension",
+    "catalog": "beltcalc.cli.catalog:catalog",
+}
+
+
+class _Failure(click.ClickException):
+    def __init__(self, message: str, exit_code: int):
+        super().__init__(message)
+        self.exit_code = exit_code
+
+
+class BeltcalcGroup(click.Group):
+    """A group that loads its commands lazily and prints every error as one line."""
+
+    def list_commands(self, ctx):
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx, name):
+        target = COMMANDS.get(name)
+        if target is None:
+            return None
+        module, attr = target.split(":")
+        return getattr(importlib.import_module(module), attr)
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except BeltcalcError as exc:
+            if ctx.meta.get("beltcalc.debug"):
+                raise
+            raise _Failure(str(exc), exc.exit_code) from None
+        except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort):
+            raise
+        except Exception as exc:  # a bug: say so in one line, keep the traceback for --debug
+            if ctx.meta.get("beltcalc.debug"):
+                raise
+            raise _Failure(f"internal error: {type(exc).__name__}: {exc} "
+                           "(run `beltcalc --debug ...` for the traceback)", 1) from None
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        try:
+            rv = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
+            code = rv if isinstance(rv, int) else 0
+        except click.ClickException as exc:
+            click.echo(f"Error: {exc.format_message()}", err=True)
+            code = exc.exit_code
+        except click.exceptions.Abort:
+            click.echo("Aborted.", err=True)
+            code = 1
+        if standalone_mode:
+            sys.exit(code)
+        return code
+
+
+@click.group(cls=BeltcalcGroup, context_settings={"help_option_names": ["-h", "--help"],
+                                                   "max_content_width": 100})
+@click.version_option(__version__, prog_name="beltcalc")
+@click.option("--debug", is_flag=True, envvar="BELTCALC_DEBUG",
+              help="Show the full traceback of an error.")
+@click.pass_context
+def cli(ctx: click.Context, debug: bool) -> None:
+    """Belt and chain drive trains: belt model, tension, bolt torque, motor sizing, simulation.
+
+    Every quantity takes units (`--mass 90kg`, `--center-distance 31.3in`, `--accel 0.5g0`);
+    with no options each command reproduces its source paper's worked example.
+    """
+    ctx.meta["beltcalc.debug"] = debug
+
+
+def main() -> None:
+    """Console-script entry point."""
+    cli(prog_name="beltcalc")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,76 @@
+"""Option types and options shared by every command (defined once, used everywhere)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import click
+
+from beltcalc.units import QuantityError, parse_quantity
+
+
+class QuantityParam(click.ParamType):
+    """A quantity with units (``90kg``, ``31.3in``, ``0.5g0``) converted to an SI float.
+
+    ``si_unit`` names the SI unit the value is returned in, and so the dimension the
+    text must have; ``""`` is a plain number. Text, unit and finiteness are checked here
+    (a usage error, exit 2); physical ranges are checked by the library (exit 1).
+    """
+
+    name = "quantity"
+
+    def __init__(self, si_unit: str):
+        self.si_unit = si_unit
+
+    def get_metavar(self, param, ctx=None) -> str:  # click >= 8.2 passes ctx
+        return "NUMBER" if self.si_unit == "" else "QUANTITY"
+
+    def convert(self, value, param, ctx) -> float:
+        if isinstance(value, float):
+            return value
+        try:
+            return parse_quantity(value, self.si_unit)
+        except QuantityError as exc:
+            self.fail(str(exc), param, ctx)
+
+
+class OutputPath(click.ParamType):
+    """A file to write: its folder must exist and be writable (checked before any work)."""
+
+    name = "path"
+
+    def convert(self, value, param, ctx) -> Path:
+        path = Path(value).expanduser()
+        folder = path.parent if str(path.parent) else Path(".")
+        if path.is_dir():
+            self.fail(f"{value!r} is a folder, not a file", param, ctx)
+        if not folder.is_dir():
+            self.fail(f"{value!r}: the folder {str(folder)!r} does not exist", param, ctx)
+        if not os.access(folder, os.W_OK | os.X_OK):
+            self.fail(f"{value!r}: the folder {str(folder)!r} is not writable", param, ctx)
+        if path.exists() and not os.access(path, os.W_OK):
+            self.fail(f"{value!r} exists and is not writable", param, ctx)
+        return path
+
+
+def quantity_option(*decls: str, si_unit: str, default=None, help: str, **kw):
+    """A ``--name QUANTITY`` option; ``default`` is text with its unit, shown in --help."""
+    return click.option(*decls, type=QuantityParam(si_unit), default=default,
+                        show_default=default is not None, help=help, **kw)
+
+
+json_option = click.option("--json", "as_json", is_flag=True,
+                           help="Print one JSON object (SI values with their unit) and nothing else.")
+csv_option = click.option("--csv", "csv_path", type=OutputPath(), default=None,
+                          help="Also write the table to this CSV file (atomically).")
+catalog_option = click.option(
+    "--catalog", "catalog_paths", multiple=True,
+    type=click.Path(exists=True, dir_okay=False, readable=True),
+    help="A catalog file of your own (same TOML format), added to the built-in ones; repeatable.",
+)
+
+
+def output_options(func):
+    """``--json`` and ``--csv``: every command has both."""
+    return json_option(csv_option(func))

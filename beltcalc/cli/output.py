@@ -1,0 +1,127 @@
+"""Rendering of results: rich tables on stdout, JSON, CSV written atomically.
+
+A result is a list of :class:`Row` (SI value, SI unit, display unit), grouped in
+sections. The same rows give the table, the JSON object and the CSV file, so the three
+never disagree.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterable, Sequence
+
+from beltcalc.errors import OutputError
+
+
+@dataclass(frozen=True)
+class Row:
+    """One output quantity. ``unit`` is the SI unit of ``value`` as printed in JSON/CSV
+    ("1" for a plain number); ``display`` is the unit of the table (a pint unit string)."""
+
+    key: str
+    label: str
+    value: float
+    unit: str
+    display: str = ""
+    digits: int = 4
+    note: str = ""
+
+
+def display_value(row: Row) -> str:
+    """The row's value in its display unit, ``digits`` significant digits."""
+    from beltcalc.units import convert
+
+    if row.value is None or (isinstance(row.value, float) and math.isnan(row.value)):
+        return "-"
+    si = "" if row.unit == "1" else row.unit
+    shown = row.display if row.display else si
+    value = convert(row.value, si, shown) if shown != si else row.value
+    if value == 0:
+        return "0"
+    text = f"{value:#.{row.digits}g}"
+    return text.rstrip(".") if "e" not in text else f"{value:.{row.digits}g}"
+
+
+def display_unit(row: Row) -> str:
+    unit = row.display or row.unit
+    if unit == "percent":
+        return "%"
+    return "" if unit in ("1", "") else unit.replace("**", "^").replace("*", " ")
+
+
+def print_table(title: str, sections: Sequence[tuple[str, Sequence[Row]]],
+                notes: Iterable[str] = ()) -> None:
+    """A rich table on stdout: one block per section, quantity / value / unit / note."""
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=title, title_justify="left", show_lines=False)
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    table.add_column("unit")
+    table.add_column("note", overflow="fold")
+    for i, (name, rows) in enumerate(sections):
+        table.add_row(f"[bold]{name}[/bold]", "", "", "", end_section=False)
+        for j, row in enumerate(rows):
+            table.add_row("  " + row.label, display_value(row), display_unit(row), row.note,
+                          end_section=(j == len(rows) - 1 and i < len(sections) - 1))
+    console = Console(soft_wrap=False)
+    console.width = max(console.width, 110)  # pipes default to 80 columns
+    console.print(table)
+    for note in notes:
+        console.print(note, highlight=False, soft_wrap=True)
+
+
+def rows_json(rows: Iterable[Row], **extra) -> str:
+    """One JSON object: ``{key: {"value": SI float, "unit": SI unit}, **extra}``."""
+    obj = {r.key: {"value": r.value, "unit": r.unit} for r in rows}
+    obj.update(extra)
+    return json.dumps(obj, indent=2, allow_nan=False)
+
+
+def rows_csv(rows: Iterable[Row]) -> str:
+    """CSV text with the header ``quantity,value,unit`` (SI values)."""
+    return table_csv(["quantity", "value", "unit"], ([r.key, repr(r.value), r.unit] for r in rows))
+
+
+def table_csv(header: Sequence[str], rows: Iterable[Sequence]) -> str:
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(rows)
+    return buf.getvalue()
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename.
+
+    A reader never sees a half-written file, and on any failure the temporary file is
+    removed and ``path`` is left as it was.
+    """
+    path = Path(path)
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {exc.strerror}") from None
+    try:
+        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException as exc:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        if isinstance(exc, OSError):
+            raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from None
+        raise

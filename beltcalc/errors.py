@@ -1,0 +1,108 @@
+"""Errors of beltcalc and the checks that raise them.
+
+Every error a user can cause is a :class:`BeltcalcError`. The command line turns it
+into one line on stderr and an exit code at one place (``cli/main.py``):
+
+- :class:`InputError`: the inputs are readable but physically impossible (exit 1);
+- :class:`UnknownNameError`: a name that is not in the catalogs (exit 2, a usage error);
+- :class:`CatalogError`: a missing or malformed catalog file (exit 1);
+- :class:`OutputError`: an output file that cannot be written (exit 1);
+- :class:`SimulationError`: a solver failure (exit 1).
+
+An error may name the library parameter it is about (``param``). The library's
+parameter names are the command-line option names with ``_`` for ``-``, so the CLI
+can prefix the message with the option (``--center-distance: ...``).
+"""
+
+from __future__ import annotations
+
+import math
+
+
+class BeltcalcError(Exception):
+    """Base of every error a user can cause. ``exit_code`` is what the CLI returns."""
+
+    exit_code = 1
+
+    def __init__(self, message: str, param: str | None = None):
+        super().__init__(message)
+        self.message = message
+        self.param = param
+
+    def __str__(self) -> str:
+        if self.param:
+            return f"--{self.param.replace('_', '-')}: {self.message}"
+        return self.message
+
+
+class InputError(BeltcalcError, ValueError):
+    """Physically impossible input (negative mass, span shorter than a pitch, ...)."""
+
+
+class UnknownNameError(BeltcalcError, KeyError):
+    """A belt, width, thread or motor that is not in the catalogs (a usage error)."""
+
+    exit_code = 2
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return BeltcalcError.__str__(self)
+
+
+class CatalogError(BeltcalcError):
+    """A catalog file is missing or malformed; the message names the file and key."""
+
+
+class OutputError(BeltcalcError):
+    """An output file could not be written (nothing is left half-written)."""
+
+
+class SimulationError(BeltcalcError):
+    """A solver failed; the message says at which time, with which method, what to try."""
+
+
+def require_positive(param: str, value: float, unit: str) -> float:
+    """Return ``value`` if it is a finite number > 0, else raise :class:`InputError`.
+
+    >>> require_positive("mass", 50.0, "kg")
+    50.0
+    >>> require_positive("mass", -5.0, "kg")
+    Traceback (most recent call last):
+    ...
+    beltcalc.errors.InputError: --mass: -5 kg is not allowed; it must be > 0 kg
+    """
+    return require_range(param, value, unit, low=0.0, low_open=True)
+
+
+def require_range(
+    param: str,
+    value: float,
+    unit: str,
+    low: float = -math.inf,
+    high: float = math.inf,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
+    """Return ``value`` if it is finite and inside the interval, else raise :class:`InputError`.
+
+    ``low_open``/``high_open`` exclude the bound itself. The message names the allowed
+    range in the same unit.
+
+    >>> require_range("mu", 0.2, "", 0.0, 1.0, low_open=True, high_open=True)
+    0.2
+    >>> require_range("mu", 1.5, "", 0.0, 1.0, low_open=True, high_open=True)
+    Traceback (most recent call last):
+    ...
+    beltcalc.errors.InputError: --mu: 1.5 is not allowed; it must be in (0, 1)
+    """
+    bad_low = value <= low if low_open else value < low
+    bad_high = value >= high if high_open else value > high
+    if math.isfinite(value) and not bad_low and not bad_high:
+        return value
+    u = f" {unit}" if unit else ""
+    if math.isinf(high):
+        allowed = f"{'>' if low_open else '>='} {low:g}{u}"
+    elif math.isinf(low):
+        allowed = f"{'<' if high_open else '<='} {high:g}{u}"
+    else:
+        allowed = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}{u}"
+    raise InputError(f"{value:g}{u} is not allowed; it must be {allowed}", param=param)

@@ -43,10 +43,21 @@ def display_value(row: Row) -> str:
     si = "" if row.unit == "1" else row.unit
     shown = row.display if row.display else si
     value = convert(row.value, si, shown) if shown != si else row.value
-    if value == 0:
-        return "0"
-    text = f"{value:#.{row.digits}g}"
-    return text.rstrip(".") if "e" not in text else f"{value:.{row.digits}g}"
+    return format_number(value, row.digits)
+
+
+def format_number(value: float, digits: int = 4) -> str:
+    """``digits`` significant digits, plain decimals from 1e-4 to 1e7, integers as integers.
+
+    >>> format_number(13.004, 3), format_number(350000.0), format_number(0.073), format_number(16.0)
+    ('13.0', '350000', '0.07300', '16')
+    """
+    if value == int(value) and abs(value) < 1e7:
+        return str(int(value))
+    mag = math.floor(math.log10(abs(value)))
+    if -4 <= mag < 7:
+        return f"{value:.{max(digits - 1 - mag, 0)}f}"
+    return f"{value:.{digits}g}"
 
 
 def display_unit(row: Row) -> str:
@@ -56,10 +67,18 @@ def display_unit(row: Row) -> str:
     return "" if unit in ("1", "") else unit.replace("**", "^").replace("*", " ")
 
 
+def console(width: int = 110):
+    """A rich console on stdout at least ``width`` columns wide (pipes default to 80)."""
+    from rich.console import Console
+
+    out = Console(soft_wrap=False)
+    out.width = max(out.width, width)
+    return out
+
+
 def print_table(title: str, sections: Sequence[tuple[str, Sequence[Row]]],
                 notes: Iterable[str] = ()) -> None:
     """A rich table on stdout: one block per section, quantity / value / unit / note."""
-    from rich.console import Console
     from rich.table import Table
 
     table = Table(title=title, title_justify="left", show_lines=False)
@@ -72,11 +91,10 @@ def print_table(title: str, sections: Sequence[tuple[str, Sequence[Row]]],
         for j, row in enumerate(rows):
             table.add_row("  " + row.label, display_value(row), display_unit(row), row.note,
                           end_section=(j == len(rows) - 1 and i < len(sections) - 1))
-    console = Console(soft_wrap=False)
-    console.width = max(console.width, 110)  # pipes default to 80 columns
-    console.print(table)
+    out = console()
+    out.print(table)
     for note in notes:
-        console.print(note, highlight=False, soft_wrap=True)
+        out.print(note, highlight=False, markup=False)
 
 
 def rows_json(rows: Iterable[Row], **extra) -> str:

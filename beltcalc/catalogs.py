@@ -18,6 +18,7 @@ import difflib
 import math
 import tomllib
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 from typing import Iterable
 
@@ -144,6 +145,16 @@ _MOTOR_KEYS = {"P": "W", "T_n": "N*m", "T_max": "N*m", "J": "kg*m^2",
 _TEXT_KEYS = {"manufacturer", "profile", "name", "series", "source", "note", "damping_source", "units"}
 
 
+@lru_cache(maxsize=None)
+def _unit_problem(unit: str, si_unit: str) -> str:
+    """Why ``unit`` is not a unit of the dimension of ``si_unit`` ("" if it is one)."""
+    try:
+        parse_quantity(f"1 {unit}", si_unit)
+    except QuantityError as exc:
+        return str(exc)
+    return ""
+
+
 class _Reader:
     """Reads one catalog file; every error names the file and the key."""
 
@@ -203,10 +214,9 @@ class _Reader:
                 if not isinstance(unit, str):
                     name = "F_tspec" if key == "load" else key
                     self.fail(f"{where.split('.')[0]}.units.{name}", "no unit given for this key")
-                try:
-                    parse_quantity(f"1 {unit}", si_unit)
-                except QuantityError as exc:
-                    self.fail(f"{where}.units.{key}", str(exc))
+                problem = _unit_problem(unit, si_unit)
+                if problem:
+                    self.fail(f"{where}.units.{key}", problem)
                 value = value * conversion_factor(unit, si_unit)
             low_ok = value >= 0 if key in zero_ok else value > 0
             if not (math.isfinite(value) and low_ok):

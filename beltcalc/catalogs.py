@@ -158,7 +158,7 @@ def _unit_problem(unit: str, si_unit: str) -> str:
 class _Reader:
     """Reads one catalog file; every error names the file and the key."""
 
-    def __init__(self, path: Path):
+    def __init__(self, path: Path, allowed=("source", "units", "belts", "threads", "motors")):
         self.path = path
         try:
             with open(path, "rb") as fh:
@@ -177,9 +177,9 @@ class _Reader:
             edition=str(src.get("edition", "")), path=str(path),
         )
         self.units = self.data.get("units", {})
-        unknown = set(self.data) - {"source", "units", "belts", "threads", "motors"}
+        unknown = set(self.data) - set(allowed)
         if unknown:
-            self.fail(sorted(unknown)[0], "unknown top-level key (allowed: source, units, belts, threads, motors)")
+            self.fail(sorted(unknown)[0], f"unknown top-level key (allowed: {', '.join(allowed)})")
 
     def fail(self, key: str, message: str):
         raise CatalogError(f"{self.path}: {key}: {message}")
@@ -400,3 +400,65 @@ def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
     for path in extra:
         catalog.add_file(Path(path))
     return catalog
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A ready parameter set (``catalogs/scenes/*.toml``): values as text with units, each
+    with the reason it has that value. The command that uses it converts the values."""
+
+    name: str
+    title: str
+    command: str
+    source: Source
+    values: dict[str, tuple[str, str]]  # name -> (value text, why)
+
+
+def scene_names(command: str | None = None) -> list[str]:
+    """Names of the built-in scenes (for ``command`` only, if given)."""
+    folder = builtin_dir() / "scenes"
+    names = []
+    for path in sorted(folder.glob("*.toml")):
+        if command is None or load_scene(str(path)).command == command:
+            names.append(path.stem)
+    return names
+
+
+def load_scene(ref: str, command: str | None = None) -> Scene:
+    """A built-in scene by name (``wdu``) or a scene file by path.
+
+    Every parameter is a table ``name = { value = "50 kg", why = "..." }``.
+
+    >>> load_scene("wdu").values["mass"][0]
+    '50 kg'
+    """
+    path = Path(ref)
+    if not (path.suffix == ".toml" or path.exists()):
+        path = builtin_dir() / "scenes" / f"{ref}.toml"
+        if not path.exists():
+            known = scene_names(command)
+            close = difflib.get_close_matches(ref, known, n=3, cutoff=0.4)
+            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            raise UnknownNameError(f"unknown scene {ref!r}{hint} (built-in: {', '.join(known)}; "
+                                   "or give a .toml path)", param="scene")
+    reader = _Reader(path, allowed=("source", "scene", "parameters"))
+    data = reader.data
+    head = data.get("scene")
+    if not isinstance(head, dict) or not isinstance(head.get("command"), str):
+        reader.fail("scene.command", "a scene needs [scene] with 'title' and 'command'")
+    if command is not None and head["command"] != command:
+        reader.fail("scene.command", f"this scene is for `beltcalc {head['command']}`, not `{command}`")
+    values = {}
+    params = data.get("parameters")
+    if not isinstance(params, dict):
+        reader.fail("parameters", "a scene needs a [parameters] table")
+    for key, item in params.items():
+        if not isinstance(item, dict) or not isinstance(item.get("value"), (str, int, float)) \
+                or isinstance(item.get("value"), bool):
+            reader.fail(f"parameters.{key}", "must be { value = \"<quantity or name>\", why = \"...\" }")
+        why = item.get("why", "")
+        if not isinstance(why, str) or not why.strip():
+            reader.fail(f"parameters.{key}.why", "every scene value must say why it has that value")
+        values[key] = (str(item["value"]), why)
+    return Scene(name=path.stem, title=str(head.get("title", path.stem)), command=head["command"],
+                 source=reader.source, values=values)

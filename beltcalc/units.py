@@ -84,6 +84,29 @@ def parse_quantity(text: str | float, si_unit: str) -> float:
     return value
 
 
+def parse_quantity_any(text: str | float, si_units: tuple[str, ...]) -> tuple[float, str]:
+    """Read ``text`` as a quantity of any one of the dimensions of ``si_units``.
+
+    Returns the value in the matching SI unit and that unit.
+
+    >>> parse_quantity_any("2 m/s", ("rad/s", "m/s"))
+    (2.0, 'm/s')
+    >>> round(parse_quantity_any("3000rpm", ("rad/s", "m/s"))[0], 3)
+    314.159
+    """
+    problems = []
+    for unit in si_units:
+        try:
+            return parse_quantity(text, unit), unit
+        except QuantityError as exc:
+            problems.append(exc)
+    if any("is a" in str(p) for p in problems):
+        names = " or ".join(dimension_name(_dimensionality(u)) for u in si_units)
+        raise QuantityError(f"{text!r} is neither a {names} (e.g. "
+                            + " or ".join(f"'1 {u}'" for u in si_units) + ")")
+    raise problems[0]
+
+
 _DIMENSION_NAMES = {
     "[mass]": "mass",
     "[length]": "length",

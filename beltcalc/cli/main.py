@@ -21,6 +21,7 @@ from beltcalc.errors import BeltcalcError
 COMMANDS = {
     "tension": "beltcalc.cli.tension:tension",
     "catalog": "beltcalc.cli.catalog:catalog",
+    "motor-size": "beltcalc.cli.motor_size:motor_size",
 }
 
 

@@ -15,7 +15,8 @@ import os
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Sequence
+from contextlib import contextmanager
+from typing import Callable, Iterable, Iterator, Sequence
 
 from beltcalc.errors import OutputError
 
@@ -117,22 +118,26 @@ def table_csv(header: Sequence[str], rows: Iterable[Sequence]) -> str:
     return buf.getvalue()
 
 
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename.
+def write_atomic(path: Path, content: str | Callable[[Path], None]) -> None:
+    """Write ``content`` to ``path`` through a temporary file in the same folder and a rename.
 
-    A reader never sees a half-written file, and on any failure the temporary file is
-    removed and ``path`` is left as it was.
+    ``content`` is text, or a function that writes the temporary file given its path
+    (e.g. a figure's ``savefig``). A reader never sees a half-written file, and on any
+    failure the temporary file is removed and ``path`` is left as it was.
     """
     path = Path(path)
     try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
     except OSError as exc:
         raise OutputError(f"cannot write {path}: {exc.strerror}") from None
     try:
         with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
-            fh.write(text)
+            if isinstance(content, str):
+                fh.write(content)
             fh.flush()
             os.fsync(fh.fileno())
+        if not isinstance(content, str):
+            content(Path(tmp))
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     except BaseException as exc:
@@ -143,3 +148,21 @@ def write_atomic(path: Path, text: str) -> None:
         if isinstance(exc, OSError):
             raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from None
         raise
+
+
+@contextmanager
+def progress(total: int, label: str, enabled: bool = True) -> Iterator[Callable[[], None]]:
+    """A rich progress bar on stderr for ``total`` steps; yields the function that advances it.
+
+    Disabled (a no-op) when ``enabled`` is False, e.g. with ``--json``, or for short work.
+    """
+    if not enabled:
+        yield lambda: None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                  TimeRemainingColumn(), console=Console(stderr=True), transient=True) as bar:
+        task = bar.add_task(label, total=total)
+        yield lambda: bar.advance(task)

@@ -1,0 +1,121 @@
+"""Motor choice for a belt axis: every catalog motor checked on peak torque, RMS torque,
+speed and load/motor inertia ratio, with its own rotor inertia and losses.
+
+Criteria (DESIGN.md 2.5): peak torque <= T_max / (1 + margin), RMS torque <= T_n,
+peak speed <= n_max, load/motor inertia ratio <= limit (10: Parker's guidance for
+servos). Among the motors that pass, the smallest (lowest rated torque) that runs at
+50-100 % of its rated torque is preferred, because motors are efficient there
+(Wojtkowiak et al. 2021, section 1 and 4, after McCoy & Douglass 1996); if none runs in
+that band the smallest that passes is chosen and the report says so.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from beltcalc.catalogs import Motor
+from beltcalc.drive import BeltAxis, Duty, duty, motor_damping
+from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.profiles import Trapezoid
+
+BAND = (0.5, 1.0)  # preferred RMS utilisation of the rated torque
+
+
+@dataclass(frozen=True)
+class MotorCheck:
+    """One motor against the duty it would see (its own rotor inertia and losses)."""
+
+    motor: Motor
+    duty: Duty
+    inertia_ratio: float
+    peak_ok: bool
+    rms_ok: bool
+    speed_ok: bool
+    inertia_ok: bool
+
+    @property
+    def ok(self) -> bool:
+        return self.peak_ok and self.rms_ok and self.speed_ok and self.inertia_ok
+
+    @property
+    def utilisation(self) -> float:
+        """RMS torque / rated torque [-]."""
+        return self.duty.rms_torque / self.motor.T_n
+
+    @property
+    def in_band(self) -> bool:
+        return BAND[0] <= self.utilisation <= BAND[1]
+
+
+@dataclass(frozen=True)
+class Choice:
+    """The checks of every motor (smallest rated torque first) and the recommendation."""
+
+    checks: tuple[MotorCheck, ...]
+    selected: MotorCheck | None
+    reason: str
+
+
+def check_motor(axis: BeltAxis, profile: Trapezoid, motor: Motor, efficiency: float,
+                ratio_limit: float = 10.0, peak_margin: float = 0.0) -> MotorCheck:
+    """Duty of ``axis`` on ``profile`` driven by ``motor``, and the four pass/fail checks.
+
+    ``efficiency`` is used when the catalog has none for the motor; it gives the
+    motor's viscous loss b_M = (1 - eta) T_n / omega_n.
+    """
+    eta = motor.efficiency if motor.efficiency is not None else efficiency
+    b_m = motor_damping(eta, motor.T_n, motor.n_rated)
+    load = axis.load_inertia_total
+    d = duty(profile, motor.J + load, axis.damping(b_m), axis.resistance_torque)
+    ratio = load / motor.J
+    return MotorCheck(
+        motor=motor, duty=d, inertia_ratio=ratio,
+        peak_ok=d.peak_torque * (1.0 + peak_margin) <= motor.T_max,
+        rms_ok=d.rms_torque <= motor.T_n,
+        speed_ok=profile.peak_speed <= motor.n_max,
+        inertia_ok=ratio <= ratio_limit,
+    )
+
+
+def choose_motor(axis: BeltAxis, profile: Trapezoid, motors: list[Motor], efficiency: float,
+                 ratio_limit: float = 10.0, peak_margin: float = 0.0) -> Choice:
+    """Check every motor and recommend one (or none, with the reason).
+
+    Raises :class:`InputError` (param ``speed``) when the move is faster than every
+    motor's maximum speed: no motor of the catalog can run it.
+
+    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.profiles import trapezoid
+    >>> axis = BeltAxis(mass=5.0, substitute_mass=0.0, pulley_diameter=0.05,
+    ...                 pulley_inertia=2e-5, idler_inertia=2e-5)
+    >>> c = choose_motor(axis, trapezoid(157.0, 2000.0, 200.0, 0.3),
+    ...                  list(load_catalog().motors.values()), 0.9)
+    >>> c.selected.motor.name, round(c.selected.inertia_ratio, 2)
+    ('SGM7A-25A', 9.92)
+    """
+    require_positive("inertia_ratio_limit", ratio_limit, "")
+    require_range("peak_margin", peak_margin, "", low=0.0)
+    if not motors:
+        raise InputError("no motors to choose from", param="motors")
+    fastest = max(m.n_max for m in motors)
+    if profile.peak_speed > fastest:
+        raise InputError(
+            f"{profile.peak_speed * 30 / 3.141592653589793:.0f} rpm at the motor is over every motor's "
+            f"maximum speed (the fastest runs {fastest * 30 / 3.141592653589793:.0f} rpm); lower --speed "
+            "or the gear ratio",
+            param="speed",
+        )
+    checks = sorted((check_motor(axis, profile, m, efficiency, ratio_limit, peak_margin) for m in motors),
+                    key=lambda c: (c.motor.T_n, c.motor.J, c.motor.name))
+    passing = [c for c in checks if c.ok]
+    if not passing:
+        return Choice(tuple(checks), None, "no motor of the catalog passes all four checks")
+    in_band = [c for c in passing if c.in_band]
+    if in_band:
+        return Choice(tuple(checks), in_band[0],
+                      f"smallest motor that passes and runs at {in_band[0].utilisation:.0%} "
+                      "of its rated torque (50-100 %)")
+    best = passing[0]
+    return Choice(tuple(checks), best,
+                  f"smallest motor that passes; none runs at 50-100 % of its rated torque "
+                  f"(this one: {best.utilisation:.0%})")

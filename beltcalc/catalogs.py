@@ -167,6 +167,8 @@ class _Reader:
             raise CatalogError(f"catalog file {path} does not exist") from None
         except tomllib.TOMLDecodeError as exc:
             raise CatalogError(f"{path}: not valid TOML ({exc})") from None
+        except UnicodeDecodeError as exc:
+            raise CatalogError(f"{path}: not UTF-8 text (byte {exc.start}); save it as UTF-8") from None
         except OSError as exc:
             raise CatalogError(f"{path}: cannot be read ({exc.strerror})") from None
         src = self.data.get("source")
@@ -185,9 +187,13 @@ class _Reader:
         raise CatalogError(f"{self.path}: {key}: {message}")
 
     def entries(self, kind: str) -> list[dict]:
-        items = self.data.get(kind, [])
+        return self.rows(self.data, kind, kind)
+
+    def rows(self, entry: dict, key: str, where: str) -> list[dict]:
+        """``entry[key]`` as a list of tables (empty if absent), or a CatalogError."""
+        items = entry.get(key, [])
         if not isinstance(items, list) or not all(isinstance(e, dict) for e in items):
-            self.fail(kind, "must be an array of tables ([[" + kind + "]])")
+            self.fail(where, "must be an array of tables")
         return items
 
     def text(self, entry: dict, key: str, where: str, default: str | None = None) -> str:
@@ -225,8 +231,8 @@ class _Reader:
             out[key] = float(value)
         return out
 
-    def check_keys(self, entry: dict, allowed: Iterable[str], where: str):
-        extra = set(entry) - set(allowed) - _TEXT_KEYS
+    def check_keys(self, entry: dict, allowed: Iterable[str], where: str, text_keys=_TEXT_KEYS):
+        extra = set(entry) - set(allowed) - set(text_keys)
         if extra:
             self.fail(f"{where}.{sorted(extra)[0]}", "unknown key")
 
@@ -251,21 +257,17 @@ class _Reader:
             units = self.entry_units(e, where)
             nums = self.numbers(e, _BELT_KEYS, units, where, required=["pitch"])
             rows = []
-            for j, row in enumerate(e.get("widths", [])):
+            for j, row in enumerate(self.rows(e, "widths", f"{where}.widths")):
                 rw = f"{where}.widths[{j}]"
-                if not isinstance(row, dict):
-                    self.fail(rw, "must be a table")
-                self.check_keys(row, _BELT_ROW_KEYS, rw)
+                self.check_keys(row, _BELT_ROW_KEYS, rw, text_keys=())
                 rows.append(BeltWidth(**self.numbers(row, _BELT_ROW_KEYS, units, rw, required=["width"])))
             widths = [r.width for r in rows]
             if any(b <= a for a, b in zip(widths, widths[1:])):
                 self.fail(f"{where}.widths", "widths must be sorted ascending, without repeats")
             table = []
-            for j, row in enumerate(e.get("F_tspec", [])):
+            for j, row in enumerate(self.rows(e, "F_tspec", f"{where}.F_tspec")):
                 rw = f"{where}.F_tspec[{j}]"
-                if not isinstance(row, dict):
-                    self.fail(rw, "must be a table")
-                self.check_keys(row, _FTSPEC_KEYS, rw)
+                self.check_keys(row, _FTSPEC_KEYS, rw, text_keys=())
                 vals = self.numbers(row, _FTSPEC_KEYS, {**units, "load": units.get("F_tspec")}, rw,
                                     required=_FTSPEC_KEYS, zero_ok=["speed"])
                 table.append((vals["speed"], vals["load"]))
@@ -281,7 +283,7 @@ class _Reader:
             out.append(BeltProfile(
                 manufacturer=self.text(e, "manufacturer", where),
                 profile=self.text(e, "profile", where),
-                source=self.source, widths=tuple(rows), F_tspec=tuple(table),
+                source=self.entry_source(e, where), widths=tuple(rows), F_tspec=tuple(table),
                 note=self.text(e, "note", where, ""),
                 damping_source=self.text(e, "damping_source", where, ""),
                 **nums, **ints,
@@ -331,15 +333,13 @@ class Catalog:
         reader = _Reader(path)
         for kind, items in (("belts", reader.belts()), ("threads", reader.threads()),
                             ("motors", reader.motors())):
-            table = getattr(self, kind)
             for item in items:
                 key = item.name.lower()
-                if key in table:
-                    raise CatalogError(
-                        f"{path}: {kind}: duplicate name {item.name!r} "
-                        f"(already in {_source_of(table[key]).path})"
-                    )
-                table[key] = item
+                for other in (self.belts, self.threads, self.motors):
+                    if key in other:
+                        raise CatalogError(f"{path}: {kind}: duplicate name {item.name!r} "
+                                           f"(already in {other[key].source.path})")
+                getattr(self, kind)[key] = item
         self.files.append(str(path))
 
     def belt(self, name: str) -> BeltProfile:
@@ -377,10 +377,6 @@ class Catalog:
         raise UnknownNameError(
             f"unknown {what} {name!r}{hint} (`beltcalc catalog list` lists them)", param=param
         )
-
-
-def _source_of(item) -> Source:
-    return item.source
 
 
 def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:

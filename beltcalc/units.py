@@ -11,6 +11,7 @@ The registry is built once, on first use, with pint's definition cache
 from __future__ import annotations
 
 import math
+import re
 from functools import lru_cache
 
 import pint
@@ -58,10 +59,12 @@ def parse_quantity(text: str | float, si_unit: str) -> float:
         value = float(text)
         q = reg.Quantity(value, "" if dimensionless else si_unit)
     else:
+        example = "a plain number, e.g. '0.2'" if dimensionless else f"a number and a unit, e.g. '50 {si_unit}'"
+        _check_number_text(text, example)
         try:
             q = reg.Quantity(text.strip())
         except Exception as exc:  # pint raises many types for bad text
-            raise QuantityError(f"cannot read {text!r} as a quantity ({type(exc).__name__})") from exc
+            raise QuantityError(f"cannot read {text!r} as a quantity; give {example}") from exc
         if not isinstance(q, pint.Quantity):  # e.g. a bare unit name parsed to a Unit
             q = reg.Quantity(1.0, str(q))
     if isinstance(q.magnitude, complex) or not hasattr(q.magnitude, "__float__"):
@@ -105,6 +108,19 @@ def parse_quantity_any(text: str | float, si_units: tuple[str, ...]) -> tuple[fl
         raise QuantityError(f"{text!r} is neither a {names} (e.g. "
                             + " or ".join(f"'1 {u}'" for u in si_units) + ")")
     raise problems[0]
+
+
+_NUMBER = re.compile(r"\s*[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+def _check_number_text(text: str, example: str) -> None:
+    """Refuse text that pint would read silently wrong: pint multiplies juxtaposed numbers,
+    so ``1,5kg`` would be 15 kg and ``1.5.3kg`` 0.45 kg."""
+    if "," in text:
+        raise QuantityError(f"{text!r}: use a decimal point, not a comma; give {example}")
+    m = _NUMBER.match(text)
+    if m and text[m.end():m.end() + 1] in tuple("0123456789."):
+        raise QuantityError(f"cannot read {text!r} as one number; give {example}")
 
 
 _DIMENSION_NAMES = {

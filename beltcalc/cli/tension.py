@@ -73,10 +73,10 @@ def tension(belt, width, select_width, safety_factor, center_distance, mass, acc
         click.echo(rows_json(rows, belt=report.belt, thread=report.thread,
                              substitute_mass_model=report.substitute_mass_model,
                              damping_source=report.damping_source, warnings=list(report.warnings)))
-        return
-    title = (f"Belt tension: {report.belt} {report.width * 1e3:g} mm, "
-             f"a = {center_distance * 1e3:g} mm, thread {report.thread}")
-    print_table(title, sections, notes=[f"b_TB: {report.damping_source}"])
+    else:
+        title = (f"Belt tension: {report.belt} {report.width * 1e3:g} mm, "
+                 f"a = {center_distance * 1e3:g} mm, thread {report.thread}")
+        print_table(title, sections, notes=[f"b_TB: {report.damping_source}"])
     for warning in report.warnings:
         click.secho(f"Warning: {warning}", err=True, fg="yellow")
 

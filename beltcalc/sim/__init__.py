@@ -1,0 +1,1 @@
+"""Drive-train simulation: network (graph -> matrices), core (the one integrator), result."""

@@ -1,0 +1,70 @@
+"""SimResult: time series of every state and output with names and units, summaries over a
+steady window, how the run was solved, and CSV export."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Summary:
+    """Statistics of one signal over a window: amplitude is half the peak-to-peak."""
+
+    mean: float
+    amplitude: float
+    rms: float
+    min: float
+    max: float
+
+
+@dataclass
+class SimResult:
+    """Signals (name -> array over ``t``) with their SI units, and the solve information.
+
+    ``error_estimate`` is the largest absolute difference of the speeds [rad/s] against a
+    reference (a half-step exact run, or the exact solution), or None where none exists.
+    """
+
+    t: np.ndarray
+    signals: dict[str, np.ndarray]
+    units: dict[str, str]
+    method: str
+    reason: str
+    wall_time: float
+    steps: int
+    rhs_calls: int
+    error_estimate: float | None = None
+    error_reference: str = ""
+    extra: dict = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.signals[name]
+
+    def window(self, start: float, end: float | None = None) -> np.ndarray:
+        """Boolean mask of the samples with start <= t <= end."""
+        end = self.t[-1] if end is None else end
+        return (self.t >= start - 1e-12) & (self.t <= end + 1e-12)
+
+    def summary(self, name: str, start: float, end: float | None = None) -> Summary:
+        """Mean, amplitude (half peak-to-peak), RMS, min and max of a signal over a window."""
+        y = self.signals[name][self.window(start, end)]
+        if y.size == 0:
+            raise ValueError(f"no samples in the window {start:g}..{end} s")
+        lo, hi = float(y.min()), float(y.max())
+        return Summary(float(y.mean()), 0.5 * (hi - lo), float(np.sqrt(np.mean(y * y))), lo, hi)
+
+    def csv_text(self, names: list[str] | None = None) -> str:
+        """CSV with the units in the header (``t_s``, ``omega_3_rad_per_s``, ...)."""
+        names = names or list(self.signals)
+        header = ["t_s"] + [f"{n}_{_unit_tag(self.units[n])}" for n in names]
+        data = np.column_stack([self.t] + [self.signals[n] for n in names])
+        lines = [",".join(header)]
+        lines += [",".join(f"{v:.10g}" for v in row) for row in data]
+        return "\n".join(lines) + "\n"
+
+
+def _unit_tag(unit: str) -> str:
+    """'rad/s' -> 'rad_per_s', 'N m' -> 'N_m', 'rad/s^2' -> 'rad_per_s2'."""
+    return unit.replace("/", "_per_").replace(" ", "_").replace("^", "")

@@ -1,0 +1,105 @@
+"""Tests of the simulation core (beltcalc.sim): analytic cases against the exact propagator
+and the scipy solvers."""
+
+import math
+
+import numpy as np
+import pytest
+
+from beltcalc.errors import InputError, SimulationError
+from beltcalc.sim.core import SolverConfig, simulate
+from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network
+
+
+def two_mass(C=100.0, d=0.0, J1=0.01, J2=0.03, loads=()):
+    return Network([Inertia("1", J1), Inertia("2", J2)], [Coupling("c", "1", "2", C, d)], list(loads))
+
+
+def test_matrices_lagrange_with_ratio():
+    # coupling C (phi_1 - U phi_2): K = C [[1, -U], [-U, U^2]]
+    net = Network([Inertia("1", 1.0), Inertia("2", 2.0)], [Coupling("c", "1", "2", 10.0, 0.5, 2.0)])
+    np.testing.assert_allclose(net.K, [[10.0, -20.0], [-20.0, 40.0]], rtol=1e-15)
+    np.testing.assert_allclose(net.D, [[0.5, -1.0], [-1.0, 2.0]], rtol=1e-15)
+    np.testing.assert_allclose(net.M, [[1.0, 0.0], [0.0, 2.0]], rtol=1e-15)
+
+
+def test_two_mass_natural_frequency():
+    # w^2 = C (1/J1 + 1/J2) = 100 (100 + 33.333) = 13333.3 -> w = 115.47 rad/s = 18.378 Hz
+    (f, zeta), = two_mass().modes()
+    assert f == pytest.approx(math.sqrt(100 * (1 / 0.01 + 1 / 0.03)) / (2 * math.pi), rel=1e-12)
+    assert zeta == pytest.approx(0.0, abs=1e-12)
+
+
+def test_undamped_energy_over_10000_periods():
+    # initial twist 0.01 rad, no damping, no load: energy C/2 0.01^2 = 5e-3 J must stay
+    net = two_mass()
+    w = math.sqrt(100 * (1 / 0.01 + 1 / 0.03))
+    t_end = 10000 * 2 * math.pi / w
+    x0 = np.array([0.01, 0.0, 0.0, 0.0])
+    r = simulate(net, t_end, 200001, SolverConfig("exact", estimate_error=False), x0)
+    x = np.array([r["phi_1"], r["phi_2"], r["omega_1"], r["omega_2"]])
+    kin, pot = net.energy(x)
+    np.testing.assert_allclose(kin + pot, 5e-3, rtol=1e-9)
+
+
+def test_one_dof_harmonic_amplitude():
+    # J phi'' + d phi' + C phi = -A sin(w t): steady amplitude A / |C - J w^2 + j d w|
+    J, C, d, A, w = 0.02, 50.0, 0.3, 0.5, 40.0
+    net = Network([Inertia("1", J)], [Coupling("ground", "1", None, C, d)], [Load("1", 0.0, A, w)])
+    r = simulate(net, 20.0, 40001, SolverConfig("exact"))
+    expected = A / abs(C - J * w * w + 1j * d * w)
+    assert r.summary("phi_1", 15.0).amplitude == pytest.approx(expected, rel=1e-4)
+
+
+def test_step_response_static_deflection():
+    # constant load M on 1-DOF: phi -> -M / C
+    net = Network([Inertia("1", 0.02)], [Coupling("g", "1", None, 50.0, 2.0)], [Load("1", 1.5)])
+    r = simulate(net, 5.0, 2001, SolverConfig("exact"))
+    assert r["phi_1"][-1] == pytest.approx(-1.5 / 50.0, rel=1e-9)
+
+
+def sewing_like():
+    J = [0.11e-4, 0.10e-3, 0.29e-3, 0.38e-4, 0.49e-3]
+    d = [5.4, 6.1, 5.2, 6.0]
+    U = [1.375, 1, 1, 1]
+    nodes = [Inertia(str(k + 1), j) for k, j in enumerate(J)]
+    cps = [Coupling(f"c{k + 1}", str(k + 1), str(k + 2), 260.0, d[k], U[k]) for k in range(4)]
+    motor = InductionMotor("1", 3.0, 0.2, 2 * math.pi * 50, 2 * math.pi * 50)
+    w = 300 / 1.375
+    return Network(nodes, cps, [Load("3", 0.1, 0.175, w), Load("5", 0.012, 0.14, w)], motor)
+
+
+def test_sewing_is_stiff():
+    lam = np.linalg.eigvals(sewing_like().state_matrix())
+    assert min(lam.real) == pytest.approx(-6.05e5, rel=0.01)
+
+
+@pytest.mark.parametrize("method, tol", [("radau", 1e-5), ("bdf", 1e-3), ("lsoda", 1e-3), ("odeint", 1e-3)])
+def test_implicit_methods_agree_with_exact(method, tol):
+    net = sewing_like()
+    exact = simulate(net, 0.5, 5001, SolverConfig("exact", estimate_error=False))
+    other = simulate(net, 0.5, 5001, SolverConfig(method, rtol=1e-8, atol=1e-10))
+    np.testing.assert_allclose(other["omega_3"], exact["omega_3"], atol=tol)
+    worst = max(np.max(np.abs(other[f"omega_{k}"] - exact[f"omega_{k}"])) for k in "12345")
+    assert other.error_reference == "exact solution"
+    assert other.error_estimate == pytest.approx(worst, rel=1e-9)
+
+
+def test_exact_error_estimate_is_small():
+    r = simulate(sewing_like(), 0.5, 5001, SolverConfig("exact"))
+    assert r.error_reference == "exact run at half the step"
+    assert r.error_estimate == pytest.approx(0.0, abs=1e-6)
+
+
+def test_auto_switches_to_radau_for_angle_loads():
+    net = Network([Inertia("1", 0.01)], [Coupling("g", "1", None, 10.0, 0.5)], [Load("1", 0.0, 0.2, in_angle=True)])
+    r = simulate(net, 0.2, 201, SolverConfig("auto"))
+    assert r.method == "radau"
+    assert "nonlinear" in r.reason
+    with pytest.raises(InputError, match="exact"):
+        simulate(net, 0.2, 201, SolverConfig("exact"))
+
+
+def test_rk45_budget_is_a_clear_failure():
+    with pytest.raises(SimulationError, match=r"rk45 stopped at t = .* s after 2000 right-hand-side calls"):
+        simulate(sewing_like(), 0.5, 501, SolverConfig("rk45", max_rhs_calls=2000, estimate_error=False))

@@ -22,6 +22,7 @@ COMMANDS = {
     "tension": "beltcalc.cli.tension:tension",
     "catalog": "beltcalc.cli.catalog:catalog",
     "motor-size": "beltcalc.cli.motor_size:motor_size",
+    "simulate": "beltcalc.cli.simulate:simulate",
 }
 
 

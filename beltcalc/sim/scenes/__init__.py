@@ -1,0 +1,1 @@
+"""Scenes: functions that build a :class:`~beltcalc.sim.network.Network` from parameters (SI)."""

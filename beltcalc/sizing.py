@@ -80,13 +80,13 @@ def build_axis(inp: SizingInputs, belt: BeltProfile) -> tuple[BeltAxis, float]:
     z = bm.teeth_on_span(inp.center_distance, belt.pitch)
     m_tb = bm.substitute_mass(bm.belt_mass_on_span(row.w_spec, inp.center_distance), z,
                               inp.substitute_mass_model)
-    body = None
-    if inp.pulley_inertia is None or inp.idler_inertia is None:
-        body = cylinder_inertia(d, inp.pulley_bore, inp.pulley_width, inp.pulley_density)
+    def body(diameter):  # the stated pulley geometry: a cylinder of the pitch diameter
+        return cylinder_inertia(diameter, inp.pulley_bore, inp.pulley_width, inp.pulley_density)
+
     axis = BeltAxis(
         mass=inp.mass, substitute_mass=m_tb, pulley_diameter=d,
-        pulley_inertia=inp.pulley_inertia if inp.pulley_inertia is not None else body,
-        idler_inertia=inp.idler_inertia if inp.idler_inertia is not None else body,
+        pulley_inertia=inp.pulley_inertia if inp.pulley_inertia is not None else body(d),
+        idler_inertia=inp.idler_inertia if inp.idler_inertia is not None else body(d * inp.belt_ratio),
         coupling_inertia=inp.coupling_inertia, gearbox_inertia=inp.gearbox_inertia,
         load_inertia=inp.load_inertia, belt_ratio=inp.belt_ratio, gear_ratio=inp.gear_ratio,
         bearing_damping=inp.bearing_damping, guide_damping=inp.guide_damping,

@@ -27,6 +27,7 @@ def ureg() -> pint.UnitRegistry:
             _REGISTRY = pint.UnitRegistry(cache_folder=":auto:")
         except OSError:  # read-only home: build without the cache
             _REGISTRY = pint.UnitRegistry()
+        _REGISTRY.define("rev = revolution")  # as in the paper's 'rev/s'
     return _REGISTRY
 
 
@@ -76,6 +77,9 @@ def parse_quantity(text: str | float, si_unit: str) -> float:
     else:
         if q.unitless:
             raise QuantityError(f"{text!r} needs a unit, e.g. '{text} {si_unit}'")
+        if "rad" in si_unit and "hertz" in str(q.units):
+            raise QuantityError(f"{text!r} is a frequency; for a rotational speed write revolutions "
+                                f"('{q.magnitude:g} rev/s', '{q.magnitude * 60:g} rpm') or '... rad/s'")
         if q.dimensionality != _dimensionality(si_unit):
             raise QuantityError(
                 f"{text!r} is a {dimension_name(q.dimensionality)}, "

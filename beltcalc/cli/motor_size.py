@@ -102,10 +102,10 @@ def motor_size(scene, substitute_mass_model, motor_name, motor_files, sweep_text
     cat = load_catalog(catalog_paths)
     scene_def = load_scene(scene, command="motor-size")
     values = resolve_scene(scene_def, PARAMS, given)
-    belt = cat.belt(values.pop("belt").value)
+    belt = cat.belt(values["belt"].value)
     motors = _motor_list(cat, motor_files)
     chosen = cat.motor(motor_name) if motor_name else None
-    fields = {k: v.value for k, v in values.items()}
+    fields = {k: v.value for k, v in values.items() if k != "belt"}
     speed, speed_unit = fields.pop("speed")
     accel, accel_unit = fields.pop("accel")
     inp = SizingInputs(**fields, speed=speed, speed_unit=speed_unit, accel=accel, accel_unit=accel_unit,

@@ -156,13 +156,15 @@ def progress(total: int, label: str, enabled: bool = True) -> Iterator[Callable[
 
     Disabled (a no-op) when ``enabled`` is False, e.g. with ``--json``, or for short work.
     """
-    if not enabled:
+    from rich.console import Console
+
+    err = Console(stderr=True)
+    if not enabled or not err.is_terminal:  # a bar in a log file is noise
         yield lambda: None
         return
-    from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                  TimeRemainingColumn(), console=Console(stderr=True), transient=True) as bar:
+                  TimeRemainingColumn(), console=err, transient=True) as bar:
         task = bar.add_task(label, total=total)
         yield lambda: bar.advance(task)

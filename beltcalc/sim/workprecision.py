@@ -1,0 +1,79 @@
+"""Work-precision: every method of the core on one network, wall time against error.
+
+The reference is the exact solution (``exact`` at half the output step); the error is
+the largest absolute difference of one speed over the whole run. Explicit methods are
+bounded by a budget of right-hand-side calls: on a stiff network they are limited by
+stability, not accuracy, and a row says when the budget stopped them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from beltcalc.errors import SimulationError
+from beltcalc.sim.core import METHODS, SolverConfig, simulate
+from beltcalc.sim.network import Network
+
+TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+EXPLICIT = ("rk45", "dop853")
+
+
+@dataclass(frozen=True)
+class WorkRow:
+    method: str
+    rtol: float | None       # None for exact
+    wall_time: float         # s, best of the repeats
+    rhs_calls: int
+    steps: int
+    error: float | None      # max |omega - omega_exact| [rad/s]; None if the run failed
+    note: str = ""
+
+
+def work_precision(network: Network, t_end: float, samples: int, signal: str,
+                   tolerances=TOLERANCES, explicit_tolerances=(1e-3, 1e-6), repeats: int = 3,
+                   max_rhs_calls: int = 2_000_000, progress: Callable[[], None] | None = None) -> list[WorkRow]:
+    """Run every method at every tolerance (atol = rtol / 100) and measure it against exact."""
+    import scipy.integrate  # noqa: F401  (imports outside the timings)
+    import scipy.linalg  # noqa: F401
+
+    ref = simulate(network, t_end, 2 * samples - 1, SolverConfig("exact", estimate_error=False))[signal][::2]
+    rows = []
+    best = min((simulate(network, t_end, samples, SolverConfig("exact", estimate_error=False))
+                for _ in range(repeats)), key=lambda r: r.wall_time)
+    rows.append(WorkRow("exact", None, best.wall_time, 0, best.steps,
+                        float(np.max(np.abs(best[signal] - ref))), "vs exact at half the step"))
+    if progress:
+        progress()
+    for method in (m for m in METHODS if m != "exact"):
+        tols = explicit_tolerances if method in EXPLICIT else tolerances
+        for tol in tols:
+            cfg = SolverConfig(method, rtol=tol, atol=tol / 100, max_rhs_calls=max_rhs_calls, estimate_error=False)
+            try:
+                runs = [simulate(network, t_end, samples, cfg) for _ in range(1 if method in EXPLICIT else repeats)]
+                r = min(runs, key=lambda x: x.wall_time)
+                rows.append(WorkRow(method, tol, r.wall_time, r.rhs_calls, r.steps,
+                                    float(np.max(np.abs(r[signal] - ref)))))
+            except SimulationError as exc:
+                rows.append(WorkRow(method, tol, float("nan"), max_rhs_calls, 0, None, str(exc).split(";")[0]))
+            if progress:
+                progress()
+    return rows
+
+
+def count_runs(tolerances=TOLERANCES, explicit_tolerances=(1e-3, 1e-6)) -> int:
+    """How many rows :func:`work_precision` makes (for a progress bar)."""
+    return 1 + sum(len(explicit_tolerances if m in EXPLICIT else tolerances) for m in METHODS if m != "exact")
+
+
+def fastest_at(rows: list[WorkRow], error: float) -> dict[str, WorkRow]:
+    """Per method, the fastest row whose error is at most ``error``."""
+    out = {}
+    for r in rows:
+        if r.error is not None and r.error <= error and (r.method not in out or r.wall_time < out[r.method].wall_time):
+            out[r.method] = r
+    return out
+
+

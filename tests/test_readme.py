@@ -45,7 +45,7 @@ def test_second_block_is_the_ci_command():
 
 def test_ci_runs_pytest_on_an_editable_install_with_test_extras():
     last = ci_last_line()
-    assert 'pip install -e ".[test]"' in last
+    assert 'pip install -e ".[test,plot]"' in last
     assert last.endswith("&& pytest")
 
 

@@ -11,6 +11,7 @@ that band the smallest that passes is chosen and the report says so.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from beltcalc.catalogs import Motor
@@ -100,8 +101,8 @@ def choose_motor(axis: BeltAxis, profile: Trapezoid, motors: list[Motor], effici
     fastest = max(m.n_max for m in motors)
     if profile.peak_speed > fastest:
         raise InputError(
-            f"{profile.peak_speed * 30 / 3.141592653589793:.0f} rpm at the motor is over every motor's "
-            f"maximum speed (the fastest runs {fastest * 30 / 3.141592653589793:.0f} rpm); lower --speed "
+            f"{profile.peak_speed * 30 / math.pi:.0f} rpm at the motor is over every motor's "
+            f"maximum speed (the fastest runs {fastest * 30 / math.pi:.0f} rpm); lower --speed "
             "or the gear ratio",
             param="speed",
         )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import fields
 
 import click
@@ -62,7 +63,7 @@ def _summary(entry) -> str:
     if kind == "thread":
         return f"{entry.series} P = {entry.P * 1e3:g} mm, d2 = {entry.d2 * 1e3:.3f} mm"
     return (f"T_n {entry.T_n:g} N m, T_max {entry.T_max:g} N m, J {entry.J * 1e4:g} kg cm^2, "
-            f"n_max {entry.n_max * 30 / 3.141592653589793:.0f} rpm")
+            f"n_max {entry.n_max * 30 / math.pi:.0f} rpm")
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})

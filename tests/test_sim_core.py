@@ -103,3 +103,27 @@ def test_auto_switches_to_radau_for_angle_loads():
 def test_rk45_budget_is_a_clear_failure():
     with pytest.raises(SimulationError, match=r"rk45 stopped at t = .* s after 2000 right-hand-side calls"):
         simulate(sewing_like(), 0.5, 501, SolverConfig("rk45", max_rhs_calls=2000, estimate_error=False))
+
+
+def test_work_precision_rows_and_errors():
+    from beltcalc.sim.workprecision import count_runs, fastest_at, work_precision
+
+    net = two_mass(C=100.0, d=0.05, loads=[Load("2", 0.1, 0.05, 20.0)])
+    rows = work_precision(net, 0.5, 501, "omega_2", tolerances=(1e-4, 1e-9), explicit_tolerances=(1e-6,),
+                          repeats=1)
+    assert len(rows) == count_runs((1e-4, 1e-9), (1e-6,)) == 1 + 4 * 2 + 2
+    assert rows[0].method == "exact" and rows[0].error == pytest.approx(0.0, abs=1e-9)
+    by = {(r.method, r.rtol): r for r in rows}
+    # tighter tolerance, smaller error, for every implicit method
+    for m in ("radau", "bdf", "lsoda", "odeint"):
+        assert by[(m, 1e-9)].error < by[(m, 1e-4)].error
+    assert set(fastest_at(rows, 1e-3)) >= {"exact", "radau", "odeint"}
+
+
+def test_work_precision_reports_a_budget_stop():
+    from beltcalc.sim.workprecision import work_precision
+
+    rows = work_precision(sewing_like(), 0.2, 201, "omega_3", tolerances=(1e-4,), explicit_tolerances=(1e-3,),
+                          repeats=1, max_rhs_calls=3000)
+    stopped = [r for r in rows if r.method in ("rk45", "dop853")]
+    assert all(r.error is None and "stopped at t =" in r.note for r in stopped)

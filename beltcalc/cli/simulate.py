@@ -99,9 +99,11 @@ def simulate():
 @click.option("--sweep", "sweep_text", default=None, metavar="NAME=START:STOP:N",
               help="Sweep a parameter, e.g. C4=50:310:14 (the paper's Fig. 5).")
 @click.option("--plot", "plot_path", type=OutputPath(), default=None, help="Write a PNG (needs matplotlib).")
+@click.option("--work-precision", is_flag=True,
+              help="Run every method at tolerances 1e-3..1e-10 and tabulate wall time against error (about 1 min).")
 @output_options
 def sewing(scene, assignments, t_end, samples, dt, window, method, rtol, atol, angle_loads, modes,
-           sweep_text, plot_path, as_json, csv_path):
+           sweep_text, plot_path, work_precision, as_json, csv_path):
     """The sewing-machine drive of Mamatova et al. (2016): speed, acceleration and torque of the
     main and bottom shafts over a steady window, and how it was solved."""
     from beltcalc.catalogs import load_scene
@@ -130,6 +132,9 @@ def sewing(scene, assignments, t_end, samples, dt, window, method, rtol, atol, a
         values["samples"] = float(round(values["t_end"] / step) + 1) if step > 0 else 0.0
     cfg = SolverConfig(method=method, rtol=rtol, atol=atol)
 
+    if work_precision:
+        _run_work_precision(values, angle_loads, as_json, csv_path)
+        return
     if spec is not None:
         name, points = spec
         rows = []
@@ -167,6 +172,39 @@ def sewing(scene, assignments, t_end, samples, dt, window, method, rtol, atol, a
     print_table(scene_def.title, sections, notes=[f"method: {result.reason}"])
     if modes:
         _print_modes(net)
+
+
+def _run_work_precision(values: dict, angle_loads: bool, as_json: bool, csv_path) -> None:
+    from beltcalc.sim.scenes.sewing import build
+    from beltcalc.sim.workprecision import count_runs, work_precision
+
+    net = build(values, angle_loads)
+    with progress(count_runs(), "work-precision", enabled=not as_json) as advance:
+        rows = work_precision(net, values["t_end"], int(values["samples"]), "omega_3", progress=advance)
+    header = ["method", "rtol", "wall_time_s", "rhs_calls", "steps", "max_error_omega3_rad_per_s", "note"]
+    table = [[r.method, r.rtol, r.wall_time, r.rhs_calls, r.steps, r.error, r.note] for r in rows]
+    if csv_path is not None:
+        write_atomic(csv_path, table_csv(header, table))
+    if as_json:
+        click.echo(json.dumps({"columns": header, "rows": table,
+                               "samples": int(values["samples"]), "t_end": values["t_end"]}, indent=2))
+        return
+    print_work_precision(rows, f"work-precision: sewing scene, {int(values['samples'])} samples over "
+                               f"{values['t_end']:g} s, error of the main-shaft speed against exact")
+
+
+def print_work_precision(rows, title: str) -> None:
+    """The work-precision table (one row per method and tolerance)."""
+    from rich.table import Table
+
+    t = Table(title=title, title_justify="left")
+    for col in ("method", "rtol", "wall time ms", "RHS calls", "steps", "max error rad/s", "note"):
+        t.add_column(col, justify="left" if col in ("method", "note") else "right")
+    for r in rows:
+        t.add_row(r.method, "-" if r.rtol is None else f"{r.rtol:.0e}",
+                  "-" if r.error is None else format_number(r.wall_time * 1e3, 3),
+                  str(r.rhs_calls), str(r.steps), "-" if r.error is None else f"{r.error:.2g}", r.note)
+    console().print(t)
 
 
 def _require_matplotlib() -> None:

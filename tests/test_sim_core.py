@@ -127,3 +127,38 @@ def test_work_precision_reports_a_budget_stop():
                           repeats=1, max_rhs_calls=3000)
     stopped = [r for r in rows if r.method in ("rk45", "dop853")]
     assert all(r.error is None and "stopped at t =" in r.note for r in stopped)
+
+
+def test_massless_node_is_refused_with_the_way_out():
+    nodes = [Inertia("1", 0.01), Inertia("m", 0.0), Inertia("2", 0.02)]
+    cps = [Coupling("a", "1", "m", 300.0, 0.0), Coupling("b", "m", "2", 600.0, 0.0)]
+    with pytest.raises(InputError, match=r"node m has no inertia.*C1 C2 / \(C1 \+ C2\)"):
+        Network(nodes, cps)
+
+
+def test_series_elimination_matches_a_tiny_middle_inertia():
+    # springs 300 and 600 in series = 200 N m/rad: the 2-mass frequency sqrt(200 (1/J1 + 1/J2));
+    # a middle node of 1e-9 kg m^2 instead of none gives the same lowest mode to 1e-5
+    from beltcalc.sim.network import series_stiffness
+
+    c = series_stiffness(300.0, 600.0)
+    (f_series, _), = Network([Inertia("1", 0.01), Inertia("2", 0.02)], [Coupling("s", "1", "2", c, 0.0)]).modes()
+    tiny = Network([Inertia("1", 0.01), Inertia("m", 1e-9), Inertia("2", 0.02)],
+                   [Coupling("a", "1", "m", 300.0, 0.0), Coupling("b", "m", "2", 600.0, 0.0)])
+    assert f_series == pytest.approx(math.sqrt(200 * (1 / 0.01 + 1 / 0.02)) / (2 * math.pi), rel=1e-12)
+    assert tiny.modes()[0][0] == pytest.approx(f_series, rel=1e-5)
+
+
+def test_stiffness_ratio_1e6():
+    # a soft coupling (100) and a stiff one (1e8) in one train: the exact solution and Radau agree,
+    # and the slow mode is the soft spring against the sum of the stiffly joined inertias
+    # (the stiff mode: sqrt(1e8 (1/0.02 + 1/0.03)) = 9.1e4 rad/s, damping ratio 0.43)
+    nodes = [Inertia("1", 0.01), Inertia("2", 0.02), Inertia("3", 0.03)]
+    cps = [Coupling("soft", "1", "2", 100.0, 0.01), Coupling("stiff", "2", "3", 1e8, 3e4)]
+    net = Network(nodes, cps, [Load("3", 0.2, 0.1, 30.0)])
+    f_slow = net.modes()[0][0]
+    assert f_slow == pytest.approx(math.sqrt(100 * (1 / 0.01 + 1 / 0.05)) / (2 * math.pi), rel=1e-5)
+    ex = simulate(net, 1.0, 2001, SolverConfig("exact", estimate_error=False))
+    ra = simulate(net, 1.0, 2001, SolverConfig("radau", rtol=1e-8, atol=1e-11))
+    np.testing.assert_allclose(ra["omega_3"], ex["omega_3"], atol=1e-6)
+    np.testing.assert_allclose(ex["omega_2"], ex["omega_3"], atol=1e-3)  # stiffly joined

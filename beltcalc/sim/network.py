@@ -23,6 +23,22 @@ import numpy as np
 from beltcalc.errors import InputError, require_positive, require_range
 
 
+def series_stiffness(c1: float, c2: float) -> float:
+    r"""Stiffness of two springs in series, eliminating the massless node between them [N m/rad].
+
+    .. math:: c_{1-2} = \frac{c_1 c_2}{c_1 + c_2}
+
+    Eq. (3) of Rusek & Popenda (clutch and shaft in series). Exact for springs without
+    dampers; a damper on the massless node would leave a first-order element instead.
+
+    >>> series_stiffness(300.0, 600.0)
+    200.0
+    """
+    require_positive("c1", c1, "N*m/rad")
+    require_positive("c2", c2, "N*m/rad")
+    return c1 * c2 / (c1 + c2)
+
+
 @dataclass(frozen=True)
 class Inertia:
     """A rotating mass: inertia J [kg m^2] (or a translating mass [kg])."""
@@ -95,6 +111,12 @@ class Network:
             raise InputError(f"node names repeat: {names}", param="network")
         self.index = {name: k for k, name in enumerate(names)}
         for n in self.nodes:
+            if n.J == 0:
+                raise InputError(
+                    f"node {n.name} has no inertia: a massless node makes the equations algebraic and "
+                    "cannot be simulated as it is; join its two springs into one, C = C1 C2 / (C1 + C2) "
+                    "(series stiffness; see series_stiffness), or give it the inertia of its parts",
+                    param=f"J_{n.name}")
             require_positive(f"J_{n.name}", n.J, "kg*m^2")
         for c in self.couplings:
             for end in (c.i, c.j):

@@ -30,6 +30,8 @@ class BeltcalcError(Exception):
         self.param = param
 
     def __str__(self) -> str:
+        if self.param and self.param.startswith("--"):  # already an option text, e.g. "--set J1"
+            return f"{self.param}: {self.message}"
         if self.param:
             return f"--{self.param.replace('_', '-')}: {self.message}"
         return self.message

@@ -162,3 +162,49 @@ def test_stiffness_ratio_1e6():
     ra = simulate(net, 1.0, 2001, SolverConfig("radau", rtol=1e-8, atol=1e-11))
     np.testing.assert_allclose(ra["omega_3"], ex["omega_3"], atol=1e-6)
     np.testing.assert_allclose(ex["omega_2"], ex["omega_3"], atol=1e-3)  # stiffly joined
+
+
+def test_prescribed_constant_speed_is_exact_and_gives_the_drive_torque():
+    # drive node "d" at 100 rad/s, spring-damper to a 0.02 kg m^2 shaft carrying 2 N m:
+    # steady state: both turn at 100 rad/s, twist phi_d - phi_1 = 2 / 50 = 0.04 rad, drive torque 2 N m
+    from beltcalc.sim.network import Prescribed
+
+    net = Network([Inertia("d", 1.0), Inertia("1", 0.02)], [Coupling("c", "d", "1", 50.0, 1.0)],
+                  [Load("1", 2.0)], prescribed=[Prescribed("d", speed=100.0)])
+    assert net.linear
+    r = simulate(net, 3.0, 3001, SolverConfig("auto"))
+    assert r.method == "exact"
+    assert r["omega_d"] == pytest.approx(np.full(3001, 100.0), rel=1e-12)
+    assert r["phi_d"][-1] - r["phi_1"][-1] == pytest.approx(0.04, rel=1e-6)
+    assert r["T_drive_d"][-1] == pytest.approx(2.0, rel=1e-6)
+    assert r["omega_1"][-1] == pytest.approx(100.0, rel=1e-9)
+
+
+def test_prescribed_acceleration_drive_torque():
+    # the drive (its own rotor 1 kg m^2) accelerates at 50 rad/s^2 through a stiff, well-damped
+    # coupling: after the transient the driven 0.02 kg m^2 follows, and the drive delivers
+    # (1 + 0.02) * 50 = 51 N m
+    from beltcalc.sim.network import Prescribed
+
+    net = Network([Inertia("d", 1.0), Inertia("1", 0.02)], [Coupling("c", "d", "1", 1e4, 20.0)],
+                  prescribed=[Prescribed("d", speed=0.0, accel=lambda t: 50.0)])
+    r = simulate(net, 1.0, 1001, SolverConfig("auto", rtol=1e-9, atol=1e-12))
+    assert r.method == "radau"
+    assert r["omega_d"][-1] == pytest.approx(50.0, rel=1e-8)
+    assert r["T_drive_d"][-1] == pytest.approx(1.02 * 50.0, rel=1e-6)
+    assert r["accel_1"][-1] == pytest.approx(50.0, rel=1e-4)
+
+
+def test_tabulated_load_equals_the_same_constant_and_ramp():
+    # a table that holds 1.5 N m equals the constant load (exact); a ramp table is interpolated
+    base = [Inertia("1", 0.02)], [Coupling("g", "1", None, 50.0, 2.0)]
+    const = simulate(Network(*base, [Load("1", 1.5)]), 2.0, 2001, SolverConfig("exact", estimate_error=False))
+    table = simulate(Network(*base, [Load("1", table=((0.0, 1.5), (2.0, 1.5)))]), 2.0, 2001,
+                     SolverConfig("auto", rtol=1e-10, atol=1e-12))
+    assert table.method == "radau"
+    np.testing.assert_allclose(table["phi_1"], const["phi_1"], atol=1e-9)
+    ramp = Network(*base, [Load("1", 0.5, table=((0.0, 0.0), (1.0, 2.0)))])
+    r = simulate(ramp, 2.0, 2001, SolverConfig("auto", estimate_error=False))
+    np.testing.assert_allclose(r["load_1"][[0, 500, 1000, 2000]], [0.5, 1.5, 2.5, 2.5], rtol=1e-12)
+    with pytest.raises(InputError, match="rising times"):
+        Network(*base, [Load("1", table=((1.0, 0.0), (0.5, 1.0)))])

@@ -67,7 +67,11 @@ def _sweep(params: list[SceneParam], text: str | None):
             part = f"{float(part)!r} {unit}"
         except ValueError:
             pass
-        bounds.append(_parse_assignments(params, (f"{name}={part}",), "--sweep")[name])
+        try:
+            bounds.append(_parse_assignments(params, (f"{name}={part}",), "--sweep")[name])
+        except click.BadParameter as exc:
+            reason = exc.message.split(": ", 1)[-1]
+            raise click.BadParameter(f"{text!r}: {reason}", param_hint="--sweep") from None
     start, stop = bounds
     try:
         n = int(parts[2])
@@ -107,6 +111,7 @@ def sewing(scene, assignments, t_end, samples, dt, window, method, rtol, atol, a
     """The sewing-machine drive of Mamatova et al. (2016): speed, acceleration and torque of the
     main and bottom shafts over a steady window, and how it was solved."""
     from beltcalc.catalogs import load_scene
+    from beltcalc.errors import InputError
     from beltcalc.sim.core import SolverConfig
     from beltcalc.units import QuantityError, parse_quantity
 
@@ -129,7 +134,9 @@ def sewing(scene, assignments, t_end, samples, dt, window, method, rtol, atol, a
             step = parse_quantity(dt, "s")
         except QuantityError as exc:
             raise click.BadParameter(str(exc), param_hint="--dt") from None
-        values["samples"] = float(round(values["t_end"] / step) + 1) if step > 0 else 0.0
+        if step <= 0:
+            raise InputError(f"{step:g} s is not allowed; it must be > 0 s", param="dt")
+        values["samples"] = float(round(values["t_end"] / step) + 1)
     cfg = SolverConfig(method=method, rtol=rtol, atol=atol)
 
     if work_precision:
@@ -221,6 +228,9 @@ def _run_sewing(values: dict, cfg, angle_loads: bool, errors: bool = True):
     from beltcalc.sim.core import simulate
     from beltcalc.sim.scenes.sewing import build
 
+    from beltcalc.errors import require_positive
+
+    require_positive("t_end", values["t_end"], "s")
     samples = int(values["samples"])
     if samples < 2 or samples != values["samples"]:
         raise InputError(f"{values['samples']:g} samples; it must be a whole number >= 2", param="samples")

@@ -45,7 +45,7 @@ class _Budget(Exception):
 
 
 def _initial(network: Network, x0: np.ndarray | None) -> np.ndarray:
-    x = np.zeros(network.size) if x0 is None else np.asarray(x0, dtype=float)
+    x = network.initial_state() if x0 is None else np.asarray(x0, dtype=float)
     if x.shape != (network.size,):
         raise InputError(f"initial state has {x.size} values; the network has {network.size}", param="x0")
     return x
@@ -99,8 +99,9 @@ def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int) -> np.nda
 
 def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
     if not network.linear:
-        raise InputError("the exact method needs a linear network with inputs in time; this one has "
-                         "loads locked to a shaft angle: use --method radau (or auto)", param="method")
+        raise InputError("the exact method needs a linear network with constant or sinusoidal inputs; this "
+                         "one has loads locked to a shaft angle, tabulated loads or a prescribed acceleration: "
+                         "use --method radau (or auto)", param="method")
     dt = t[1] - t[0]
     F = augmented_matrix(network)
     z0 = np.concatenate([x0, network.generators(0.0)])
@@ -125,11 +126,11 @@ def _rhs_and_jac(network: Network, budget: list[int]):
             raise _Budget(t)
         dx = A @ x + B @ g(t)
         if nonlinear:
-            dx += network.angle_loads(x)
+            dx += network.nonlinear_terms(t, x)
         return dx
 
     def jac(t, x):
-        return A + network.angle_loads_jacobian(x) if nonlinear else A
+        return A + network.nonlinear_jacobian(x) if nonlinear else A
 
     return rhs, jac
 
@@ -187,7 +188,8 @@ def choose_method(network: Network, requested: str) -> tuple[str, str]:
     if requested == "auto":
         if network.linear:
             return "exact", "auto: the network is linear with inputs in time, so its exact solution is used"
-        return "radau", "auto: loads locked to a shaft angle make the network nonlinear; implicit Radau with the analytic Jacobian"
+        return "radau", ("auto: angle-locked or tabulated loads or a prescribed acceleration make the network "
+                         "nonlinear or time-varying; implicit Radau with the analytic Jacobian")
     if requested not in METHODS:
         raise InputError(f"{requested!r} is not a method; use one of auto, {', '.join(METHODS)}", param="method")
     return requested, "requested"
@@ -240,12 +242,14 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) 
         signals[name], units[name] = row, unit
     dx = network.state_matrix() @ x + network.input_matrix() @ network.generators(t)
     if not network.linear:
-        dx += np.column_stack([network.angle_loads(x[:, k]) for k in range(t.size)])
+        dx += np.column_stack([network.nonlinear_terms(t[k], x[:, k]) for k in range(t.size)])
     for k, node in enumerate(network.nodes):
         signals[f"accel_{node.name}"], units[f"accel_{node.name}"] = dx[n + k], "rad/s^2"
     for name, torque in network.coupling_torques(x).items():
         signals[f"T_{name}"], units[f"T_{name}"] = torque, "N m"
     for node, torque in network.load_torques(t, x).items():
         signals[f"load_{node}"], units[f"load_{node}"] = np.broadcast_to(torque, t.shape).copy(), "N m"
+    for node, torque in network.drive_torques(t, x, dx).items():
+        signals[f"T_drive_{node}"], units[f"T_drive_{node}"] = np.broadcast_to(torque, t.shape).copy(), "N m"
     return SimResult(t=t, signals=signals, units=units, method=method, reason=reason, wall_time=wall,
                      steps=steps, rhs_calls=calls, extra={**extra, "_x": x})

@@ -62,8 +62,10 @@ class Coupling:
 @dataclass(frozen=True)
 class Load:
     """Load torque on ``node`` against the motion [N m]:
-    ``mean + amplitude sin(omega t + phase)``, or with ``in_angle`` True
-    ``mean + amplitude sin(phi_node + phase)`` (locked to the shaft angle: nonlinear)."""
+    ``mean + amplitude sin(omega t + phase)``; with ``in_angle`` True
+    ``mean + amplitude sin(phi_node + phase)`` (locked to the shaft angle: nonlinear);
+    with a ``table`` of (t [s], torque [N m]) pairs, ``mean`` + the table interpolated
+    linearly in time (held constant outside it). A negative load drives the node."""
 
     node: str
     mean: float = 0.0
@@ -71,6 +73,26 @@ class Load:
     omega: float = 0.0
     phase: float = 0.0
     in_angle: bool = False
+    table: tuple[tuple[float, float], ...] = ()
+
+    def torque(self, t, phi=0.0):
+        """The load torque at time ``t`` (and shaft angle ``phi``) [N m]."""
+        if self.table:
+            ts, vs = zip(*self.table)
+            return self.mean + np.interp(t, ts, vs)
+        arg = phi if self.in_angle else self.omega * np.asarray(t)
+        return self.mean + self.amplitude * np.sin(arg + self.phase)
+
+
+@dataclass(frozen=True)
+class Prescribed:
+    """A node whose motion is imposed (an ideal speed-controlled drive): it starts at
+    ``speed`` [rad/s] and accelerates at ``accel(t)`` [rad/s^2] (None: constant speed).
+    Its coupling torques are what the drive must deliver (output ``T_drive_<node>``)."""
+
+    node: str
+    speed: float = 0.0
+    accel: object = None  # callable t -> rad/s^2, or None
 
 
 @dataclass(frozen=True)
@@ -104,6 +126,7 @@ class Network:
     couplings: list[Coupling]
     loads: list[Load] = field(default_factory=list)
     motor: InductionMotor | None = None
+    prescribed: list[Prescribed] = field(default_factory=list)
 
     def __post_init__(self):
         names = [n.name for n in self.nodes]
@@ -128,10 +151,16 @@ class Network:
         for ld in self.loads:
             if ld.node not in self.index:
                 raise InputError(f"a load names an unknown node {ld.node!r}", param="network")
+            times = [p[0] for p in ld.table]
+            if any(b <= a for a, b in zip(times, times[1:])):
+                raise InputError(f"the load table on node {ld.node} must have rising times", param="network")
+        self.fixed = {self.index[p.node]: p for p in self.prescribed}
+        if any(p.node not in self.index for p in self.prescribed) or len(self.fixed) != len(self.prescribed):
+            raise InputError("prescribed motion names an unknown node, or one node twice", param="network")
         if self.motor is not None:
             m = self.motor
-            if m.node not in self.index:
-                raise InputError(f"the motor names an unknown node {m.node!r}", param="network")
+            if m.node not in self.index or self.index[m.node] in self.fixed:
+                raise InputError(f"the motor must sit on a free node, not {m.node!r}", param="network")
             for name in ("breakdown_torque", "breakdown_slip", "sync_speed", "supply"):
                 require_positive(name, getattr(m, name), "")
         self.M, self.D, self.K = self._assemble()
@@ -148,8 +177,17 @@ class Network:
 
     @property
     def linear(self) -> bool:
-        """True when every input is a constant or a sinusoid in time (an exact solution exists)."""
-        return not any(ld.in_angle for ld in self.loads)
+        """True when the network is linear time-invariant and every input is a constant or a
+        sinusoid in time (constant-speed prescribed motion included): an exact solution exists."""
+        return not (any(ld.in_angle or ld.table for ld in self.loads)
+                    or any(p.accel is not None for p in self.prescribed))
+
+    def initial_state(self) -> np.ndarray:
+        """Rest, except the prescribed nodes at their initial speed."""
+        x = np.zeros(self.size)
+        for k, p in self.fixed.items():
+            x[self.n + k] = p.speed
+        return x
 
     def state_names(self) -> list[tuple[str, str]]:
         """(name, SI unit) of every state."""
@@ -184,6 +222,8 @@ class Network:
         A[:n, n:2 * n] = np.eye(n)
         A[n:2 * n, :n] = -Minv[:, None] * self.K
         A[n:2 * n, n:2 * n] = -Minv[:, None] * self.D
+        for k in self.fixed:  # imposed motion: omega' = accel(t), an input
+            A[n + k, :] = 0.0
         if self.motor:
             mo = self.motor
             k = self.index[mo.node]
@@ -209,7 +249,7 @@ class Network:
             mo = self.motor
             B[2 * n, 0] = 2 * mo.breakdown_torque * mo.supply      # 2 M_c w_c / w_0 * w_0
         for ld in self.loads:
-            if ld.in_angle:
+            if ld.in_angle or ld.table or self.index[ld.node] in self.fixed:
                 continue
             row = n + self.index[ld.node]
             inv = 1.0 / self.nodes[self.index[ld.node]].J
@@ -230,19 +270,24 @@ class Network:
             rows += [np.sin(w * t), np.cos(w * t)]
         return np.array(rows)
 
-    def angle_loads(self, x: np.ndarray) -> np.ndarray:
-        """x' contribution of the loads locked to a shaft angle (nonlinear part)."""
+    def nonlinear_terms(self, t: float, x: np.ndarray) -> np.ndarray:
+        """x' contribution of what the exact method cannot take: loads locked to a shaft
+        angle, tabulated loads, and prescribed accelerations."""
         out = np.zeros_like(x)
         for ld in self.loads:
-            if ld.in_angle:
-                k = self.index[ld.node]
-                out[self.n + k] -= (ld.mean + ld.amplitude * np.sin(x[k] + ld.phase)) / self.nodes[k].J
+            k = self.index[ld.node]
+            if (ld.in_angle or ld.table) and k not in self.fixed:
+                out[self.n + k] -= ld.torque(t, x[k]) / self.nodes[k].J
+        for k, p in self.fixed.items():
+            if p.accel is not None:
+                out[self.n + k] = p.accel(t)
         return out
 
-    def angle_loads_jacobian(self, x: np.ndarray) -> np.ndarray:
+    def nonlinear_jacobian(self, x: np.ndarray) -> np.ndarray:
+        """d(nonlinear_terms)/dx: only the angle-locked loads depend on the state."""
         jac = np.zeros((self.size, self.size))
         for ld in self.loads:
-            if ld.in_angle:
+            if ld.in_angle and self.index[ld.node] not in self.fixed:
                 k = self.index[ld.node]
                 jac[self.n + k, k] -= ld.amplitude * np.cos(x[k] + ld.phase) / self.nodes[k].J
         return jac
@@ -264,9 +309,16 @@ class Network:
         """Load torque on each loaded node [N m] (summed per node)."""
         out: dict[str, np.ndarray] = {}
         for ld in self.loads:
-            arg = x[self.index[ld.node]] if ld.in_angle else ld.omega * t
-            value = ld.mean + ld.amplitude * np.sin(arg + ld.phase)
-            out[ld.node] = out.get(ld.node, 0.0) + value
+            out[ld.node] = out.get(ld.node, 0.0) + ld.torque(t, x[self.index[ld.node]])
+        return out
+
+    def drive_torques(self, t: np.ndarray, x: np.ndarray, accel: np.ndarray) -> dict[str, np.ndarray]:
+        """Torque each prescribed drive delivers [N m]: J a + (K phi + D omega) of its row + its loads."""
+        n, out = self.n, {}
+        loads = self.load_torques(t, x)
+        for k, p in self.fixed.items():
+            out[p.node] = (self.nodes[k].J * accel[n + k] + self.K[k] @ x[:n] + self.D[k] @ x[n:2 * n]
+                           + loads.get(p.node, 0.0))
         return out
 
     def energy(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -6,10 +6,32 @@ from __future__ import annotations
 
 import math
 
+from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network
 
 NODES = ("1", "2", "3", "4", "5")
 NAMES = {"1": "motor", "2": "driven-pulley rim", "3": "main shaft", "4": "toothed-pulley rim", "5": "bottom shaft"}
+
+
+def check(p: dict) -> None:
+    """Refuse parameter values that make no physical sense, naming them as ``--set NAME``."""
+    def name(key):
+        return f"--set {key}"
+
+    for k in range(1, 6):
+        require_positive(name(f"J{k}"), p[f"J{k}"], "kg*m^2")
+    for k in range(1, 5):
+        require_range(name(f"C{k}"), p[f"C{k}"], "N*m/rad", low=0.0)
+        require_range(name(f"d{k}"), p[f"d{k}"], "N*m*s/rad", low=0.0)
+    for key in ("U12", "U23", "U34", "U45", "breakdown_factor"):
+        require_positive(name(key), p[key], "")
+    require_positive(name("rated_torque"), p["rated_torque"], "N*m")
+    require_positive(name("supply_frequency"), p["supply_frequency"], "Hz")
+    require_range(name("breakdown_slip"), p["breakdown_slip"], "", 0.0, 1.0, low_open=True)
+    require_range(name("load_frequency"), p["load_frequency"], "rad/s", low=0.0)
+    if p["pole_pairs"] < 1 or p["pole_pairs"] != int(p["pole_pairs"]):
+        raise InputError(f"{p['pole_pairs']:g} is not allowed; it must be a whole number >= 1",
+                         param=name("pole_pairs"))
 
 
 def steady_speed(p: dict) -> float:
@@ -39,6 +61,7 @@ def build(p: dict, angle_loads: bool = False) -> Network:
     With ``angle_loads`` the loads follow the shaft angle, sin(phi), instead of sin(w t):
     the network is then nonlinear.
     """
+    check(p)
     nodes = [Inertia(k, p[f"J{k}"]) for k in NODES]
     ratios = [p["U12"], p["U23"], p["U34"], p["U45"]]
     couplings = [Coupling(f"{k}{k + 1}", str(k), str(k + 1), p[f"C{k}"], p[f"d{k}"], ratios[k - 1])

@@ -39,6 +39,7 @@ from numpy.testing import assert_allclose
 
 from beltcalc.catalogs import builtin_dir
 from beltcalc.cli.main import cli
+from clichecks import ok, one_error_line
 from beltcalc.errors import SimulationError
 from beltcalc.sim import core
 from beltcalc.sim.core import SolverConfig, simulate
@@ -105,31 +106,8 @@ def run(*args: str):
     return CliRunner().invoke(cli, ["simulate", "sewing", *args])
 
 
-def ok(result):
-    detail = f"exit {result.exit_code}\nstdout:\n{result.stdout}\nstderr:\n{result.stderr}"
-    assert result.exit_code == 0, detail
-    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
-    assert result.stderr == "", detail
-    return result
-
-
 def js(*args: str) -> dict:
     return json.loads(ok(run(*args, "--json")).stdout)
-
-
-def one_error_line(result, exit_code: int, *fragments: str, stdout_empty: bool = True) -> str:
-    detail = f"exit {result.exit_code}\nstdout:\n{result.stdout}\nstderr:\n{result.stderr}"
-    assert result.exit_code == exit_code, detail
-    assert isinstance(result.exception, SystemExit), repr(result.exception)
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1, detail
-    assert lines[0].startswith("Error: "), detail
-    assert "Traceback" not in result.output, detail
-    if stdout_empty:
-        assert result.stdout == "", detail
-    for fragment in fragments:
-        assert fragment in lines[0], f"{fragment!r} not in {lines[0]!r}"
-    return lines[0]
 
 
 def value(out: dict, shaft: str, key: str) -> float:

@@ -9,8 +9,9 @@ import click
 
 from beltcalc.cli.options import (OutputPath, SceneParam, catalog_option, output_options, resolve_scene,
                                   scene_options)
-from beltcalc.cli.output import Row, console, format_number, print_table, progress, rows_csv, table_csv, write_atomic
-from beltcalc.errors import BeltcalcError, InputError, UnknownNameError
+from beltcalc.cli.output import (Row, console, format_number, print_table, progress, require_matplotlib,
+                                 table_csv, write_atomic)
+from beltcalc.errors import InputError, UnknownNameError
 
 PARAMS = [
     SceneParam("belt", None, "Belt profile (gives the substitute belt mass m_TB)."),
@@ -98,7 +99,7 @@ def motor_size(scene, substitute_mass_model, motor_name, motor_files, sweep_text
 
     spec = _sweep_spec(sweep_text)
     if plot_path is not None:
-        _require_matplotlib()
+        require_matplotlib()
     cat = load_catalog(catalog_paths)
     scene_def = load_scene(scene, command="motor-size")
     values = resolve_scene(scene_def, PARAMS, given)
@@ -135,13 +136,6 @@ def motor_size(scene, substitute_mass_model, motor_name, motor_files, sweep_text
 
 
 # --- helpers ---------------------------------------------------------------------------------
-
-def _require_matplotlib() -> None:
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise BeltcalcError("--plot needs matplotlib: pip install 'beltcalc[plot]'") from None
-
 
 def _motor_list(cat, files: str | None):
     from pathlib import Path

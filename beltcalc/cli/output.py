@@ -35,6 +35,14 @@ class Row:
     note: str = ""
 
 
+def require_matplotlib() -> None:
+    """Fail early, before any work, when --plot is asked for without matplotlib installed."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise OutputError("--plot needs matplotlib: pip install 'beltcalc[plot]'") from None
+
+
 def display_value(row: Row) -> str:
     """The row's value in its display unit, ``digits`` significant digits."""
     from beltcalc.units import convert

@@ -7,8 +7,7 @@ import json
 import click
 
 from beltcalc.cli.options import OutputPath, SceneParam, output_options, resolve_scene
-from beltcalc.cli.output import Row, console, format_number, print_table, progress, table_csv, write_atomic
-from beltcalc.errors import BeltcalcError
+from beltcalc.cli.output import require_matplotlib, Row, console, format_number, print_table, progress, table_csv, write_atomic
 
 SEWING = [SceneParam(f"J{k}", "kg*m^2", f"inertia J{k}") for k in range(1, 6)]
 SEWING += [SceneParam(f"C{k}", "N*m/rad", f"stiffness C{k}") for k in range(1, 5)]
@@ -126,7 +125,7 @@ def sewing(scene, assignments, t_end, samples, dt, window, method, rtol, atol, a
         given["samples"] = float(samples)
     spec = _sweep(SEWING, sweep_text)
     if plot_path is not None:
-        _require_matplotlib()
+        require_matplotlib()
     scene_def = load_scene(scene, command="simulate sewing")
     values = {k: v.value for k, v in resolve_scene(scene_def, SEWING, given).items()}
     if dt is not None:
@@ -212,13 +211,6 @@ def print_work_precision(rows, title: str) -> None:
                   "-" if r.error is None else format_number(r.wall_time * 1e3, 3),
                   str(r.rhs_calls), str(r.steps), "-" if r.error is None else f"{r.error:.2g}", r.note)
     console().print(t)
-
-
-def _require_matplotlib() -> None:
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise BeltcalcError("--plot needs matplotlib: pip install 'beltcalc[plot]'") from None
 
 
 def _run_sewing(values: dict, cfg, angle_loads: bool, errors: bool = True):

@@ -36,9 +36,6 @@ def work_precision(network: Network, t_end: float, samples: int, signal: str,
                    tolerances=TOLERANCES, explicit_tolerances=(1e-3, 1e-6), repeats: int = 3,
                    max_rhs_calls: int = 2_000_000, progress: Callable[[], None] | None = None) -> list[WorkRow]:
     """Run every method at every tolerance (atol = rtol / 100) and measure it against exact."""
-    import scipy.integrate  # noqa: F401  (imports outside the timings)
-    import scipy.linalg  # noqa: F401
-
     ref = simulate(network, t_end, 2 * samples - 1, SolverConfig("exact", estimate_error=False))[signal][::2]
     rows = []
     best = min((simulate(network, t_end, samples, SolverConfig("exact", estimate_error=False))

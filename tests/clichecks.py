@@ -1,0 +1,26 @@
+"""Checks shared by the CLI tests: a clean success, and a failure that is one error line."""
+
+
+def ok(result):
+    """A run that exited 0 with nothing on stderr."""
+    detail = f"exit {result.exit_code}\nstdout:\n{result.stdout}\nstderr:\n{result.stderr}"
+    assert result.exit_code == 0, detail
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    assert result.stderr == "", detail
+    return result
+
+
+def one_error_line(result, exit_code: int, *fragments: str, stdout_empty: bool = True) -> str:
+    """A run that failed with ``exit_code`` and exactly one 'Error:' line holding ``fragments``."""
+    detail = f"exit {result.exit_code}\nstdout:\n{result.stdout}\nstderr:\n{result.stderr}"
+    assert result.exit_code == exit_code, detail
+    assert isinstance(result.exception, SystemExit), repr(result.exception)
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1, detail
+    assert lines[0].startswith("Error: "), detail
+    assert "Traceback" not in result.output, detail
+    if stdout_empty:
+        assert result.stdout == "", detail
+    for fragment in fragments:
+        assert fragment in lines[0], f"{fragment!r} not in {lines[0]!r}"
+    return lines[0]

@@ -7,7 +7,8 @@ import json
 import click
 
 from beltcalc.cli.options import OutputPath, SceneParam, output_options, resolve_scene
-from beltcalc.cli.output import require_matplotlib, Row, console, format_number, print_table, progress, table_csv, write_atomic
+from beltcalc.cli.output import (Row, console, format_number, print_table, progress, require_matplotlib,
+                                 table_csv, write_atomic)
 
 SEWING = [SceneParam(f"J{k}", "kg*m^2", f"inertia J{k}") for k in range(1, 6)]
 SEWING += [SceneParam(f"C{k}", "N*m/rad", f"stiffness C{k}") for k in range(1, 5)]

@@ -45,7 +45,7 @@ def test_energy_balance_sewing_exact():
     r = simulate(net, t_end, samples, SolverConfig("exact", estimate_error=False))
     F = augmented_matrix(net)
     p, n, m = F.shape[0], net.n, net.size
-    x = r.extra["_x"]
+    x = r.states
     z = np.vstack([x, net.generators(r.t)])
     g0, s1, c1 = m, m + 1, m + 2
     w = net.frequencies()[0]

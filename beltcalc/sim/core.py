@@ -220,7 +220,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
 
 def _estimate_error(result: SimResult, network: Network, t_end, samples, cfg, x0, method) -> None:
     n = network.n
-    speeds = result.extra.pop("_x")[n:2 * n]
+    speeds = result.states[n:2 * n]
     if method == "exact":
         fine = METHODS["exact"](network, np.linspace(0.0, t_end, 2 * samples - 1), x0, cfg)[0]
         ref, label = fine[n:2 * n, ::2], "exact run at half the step"
@@ -252,4 +252,4 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) 
     for node, torque in network.drive_torques(t, x, dx).items():
         signals[f"T_drive_{node}"], units[f"T_drive_{node}"] = np.broadcast_to(torque, t.shape).copy(), "N m"
     return SimResult(t=t, signals=signals, units=units, method=method, reason=reason, wall_time=wall,
-                     steps=steps, rhs_calls=calls, extra={**extra, "_x": x})
+                     steps=steps, rhs_calls=calls, states=x, extra=extra)

@@ -23,8 +23,10 @@ class Summary:
 class SimResult:
     """Signals (name -> array over ``t``) with their SI units, and the solve information.
 
-    ``error_estimate`` is the largest absolute difference of the speeds [rad/s] against a
-    reference (a half-step exact run, or the exact solution), or None where none exists.
+    ``states`` is the state matrix (one column per sample, rows as the network's
+    ``state_names``). ``error_estimate`` is the largest absolute difference of the speeds
+    [rad/s] against a reference (a half-step exact run, or the exact solution), or None
+    where none exists.
     """
 
     t: np.ndarray
@@ -35,6 +37,7 @@ class SimResult:
     wall_time: float
     steps: int
     rhs_calls: int
+    states: np.ndarray | None = None
     error_estimate: float | None = None
     error_reference: str = ""
     extra: dict = field(default_factory=dict)

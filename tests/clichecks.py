@@ -1,4 +1,7 @@
-"""Checks shared by the CLI tests: a clean success, and a failure that is one error line."""
+"""Helpers shared by the CLI tests: a clean success, a failure that is one error line, and an
+edited copy of a scene file."""
+
+from pathlib import Path
 
 
 def ok(result):
@@ -24,3 +27,12 @@ def one_error_line(result, exit_code: int, *fragments: str, stdout_empty: bool =
     for fragment in fragments:
         assert fragment in lines[0], f"{fragment!r} not in {lines[0]!r}"
     return lines[0]
+
+
+def edited_copy(source: Path, folder: Path, old: str, new: str) -> Path:
+    """A copy of ``source`` in ``folder`` with ``old`` replaced by ``new`` (which must be there)."""
+    text = source.read_text()
+    assert old in text
+    path = folder / f"my_{source.name}"
+    path.write_text(text.replace(old, new))
+    return path

@@ -53,7 +53,7 @@ from numpy.testing import assert_allclose
 
 from beltcalc.catalogs import builtin_dir
 from beltcalc.cli.main import cli
-from clichecks import ok, one_error_line
+from clichecks import edited_copy, ok, one_error_line
 
 PI = math.pi
 WDU_TOML = builtin_dir() / "scenes" / "wdu.toml"
@@ -457,11 +457,7 @@ def test_motors_catalog_by_name_is_accepted():
 # --- user scene files ---------------------------------------------------------------------------
 
 def write_scene(tmp_path: Path, old: str, new: str) -> Path:
-    text = WDU_TOML.read_text()
-    assert old in text
-    path = tmp_path / "my_axis.toml"
-    path.write_text(text.replace(old, new))
-    return path
+    return edited_copy(WDU_TOML, tmp_path, old, new)
 
 
 def test_user_scene_file(tmp_path):

@@ -39,7 +39,7 @@ from numpy.testing import assert_allclose
 
 from beltcalc.catalogs import builtin_dir
 from beltcalc.cli.main import cli
-from clichecks import ok, one_error_line
+from clichecks import edited_copy, ok, one_error_line
 from beltcalc.errors import SimulationError
 from beltcalc.sim import core
 from beltcalc.sim.core import SolverConfig, simulate
@@ -521,11 +521,7 @@ def test_zero_dt_names_dt():
 # --- scene files ---------------------------------------------------------------------------------
 
 def write_scene(tmp_path: Path, old: str, new: str) -> Path:
-    text = SEWING_TOML.read_text()
-    assert old in text
-    path = tmp_path / "my_sewing.toml"
-    path.write_text(text.replace(old, new))
-    return path
+    return edited_copy(SEWING_TOML, tmp_path, old, new)
 
 
 def test_user_scene_with_a_heavier_bottom_shaft(tmp_path):

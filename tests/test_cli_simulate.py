@@ -362,7 +362,7 @@ def test_budget_failure_through_the_cli(monkeypatch, tmp_path):
     monkeypatch.setattr(core, "SolverConfig", functools.partial(core.SolverConfig, max_rhs_calls=2000))
     out = tmp_path / "out.csv"
     line = one_error_line(run("--method", "rk45", "--t-end", "0.05s", "--window", "0.025s", "--samples", "51",
-                              "--csv", str(out)), 1, "rk45", "t =", "try --method radau")
+                              "--csv", str(out)), 1, "rk45", "t =", "try --method exact, radau")
     assert "2000 right-hand-side calls" in line
     assert list(tmp_path.iterdir()) == []
 

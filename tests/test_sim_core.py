@@ -187,9 +187,11 @@ def test_prescribed_acceleration_drive_torque():
     from beltcalc.sim.network import Prescribed
 
     net = Network([Inertia("d", 1.0), Inertia("1", 0.02)], [Coupling("c", "d", "1", 1e4, 20.0)],
-                  prescribed=[Prescribed("d", speed=0.0, accel=lambda t: 50.0)])
+                  prescribed=[Prescribed("d", speed=0.0, accel=((0.0, 50.0),))])
     r = simulate(net, 1.0, 1001, SolverConfig("auto", rtol=1e-9, atol=1e-12))
-    assert r.method == "radau"
+    assert r.method == "exact"  # a piecewise-linear acceleration keeps the network linear
+    ra = simulate(net, 1.0, 1001, SolverConfig("radau", rtol=1e-9, atol=1e-12))
+    np.testing.assert_allclose(ra["omega_1"], r["omega_1"], atol=1e-6)
     assert r["omega_d"][-1] == pytest.approx(50.0, rel=1e-8)
     assert r["T_drive_d"][-1] == pytest.approx(1.02 * 50.0, rel=1e-6)
     assert r["accel_1"][-1] == pytest.approx(50.0, rel=1e-4)
@@ -201,10 +203,16 @@ def test_tabulated_load_equals_the_same_constant_and_ramp():
     const = simulate(Network(*base, [Load("1", 1.5)]), 2.0, 2001, SolverConfig("exact", estimate_error=False))
     table = simulate(Network(*base, [Load("1", table=((0.0, 1.5), (2.0, 1.5)))]), 2.0, 2001,
                      SolverConfig("auto", rtol=1e-10, atol=1e-12))
-    assert table.method == "radau"
-    np.testing.assert_allclose(table["phi_1"], const["phi_1"], atol=1e-9)
+    assert table.method == "exact"
+    np.testing.assert_allclose(table["phi_1"], const["phi_1"], atol=1e-12)
+    radau = simulate(Network(*base, [Load("1", table=((0.0, 1.5), (2.0, 1.5)))]), 2.0, 2001,
+                     SolverConfig("radau", rtol=1e-10, atol=1e-12))
+    np.testing.assert_allclose(radau["phi_1"], const["phi_1"], atol=1e-9)
     ramp = Network(*base, [Load("1", 0.5, table=((0.0, 0.0), (1.0, 2.0)))])
     r = simulate(ramp, 2.0, 2001, SolverConfig("auto", estimate_error=False))
     np.testing.assert_allclose(r["load_1"][[0, 500, 1000, 2000]], [0.5, 1.5, 2.5, 2.5], rtol=1e-12)
+    # the ramp's response, exact (a break point at 1 s) against Radau
+    rr = simulate(ramp, 2.0, 2001, SolverConfig("radau", rtol=1e-10, atol=1e-13, estimate_error=False))
+    np.testing.assert_allclose(rr["phi_1"], r["phi_1"], atol=1e-9)
     with pytest.raises(InputError, match="rising times"):
         Network(*base, [Load("1", table=((1.0, 0.0), (0.5, 1.0)))])

@@ -1,14 +1,28 @@
 """The one place that integrates. Methods by name from a registry:
 
-- ``exact``: linear time-invariant networks with constant and sinusoidal inputs. The state
-  is augmented with the inputs' generators (g' = G g), and the augmented system z' = F z
-  is propagated with the one-step matrix expm(F dt) (scipy's scaling and squaring), in
-  blocks: the powers P_r = expm(F dt)^r, r < b, are applied to every block start at once.
-  No eigen-decomposition: on the sewing model its eigenvector matrix has a condition
-  number near 1e13 and loses about 0.1 rad/s.
-- ``radau``, ``bdf``, ``lsoda``: scipy's ``solve_ivp`` with the analytic Jacobian (a
-  callable, which LSODA needs); ``odeint``: scipy's older LSODA wrapper with ``Dfun``, the
-  same algorithm with less overhead per step; ``rk45``, ``dop853`` for comparison.
+- ``exact``: networks that are linear between switches, with constant, sinusoidal and
+  piecewise-linear inputs. The state is augmented with the inputs' generators
+  (g' = G g), and the augmented system z' = F z is propagated with the one-step matrix
+  expm(F dt) (scipy's scaling and squaring). No eigen-decomposition: on the sewing model
+  its eigenvector matrix has a condition number near 1e13 and loses about 0.1 rad/s.
+
+  * one linear system over the whole run: in blocks, the powers P_r = expm(F dt)^r,
+    r < b, applied to every block start at once;
+  * tension-only strands and time break points: piecewise. Between switches the exact
+    solution is propagated (powers by doubling); the switching functions (a strand's
+    elongation and force, both linear in z) are checked on every step, with their rates,
+    for a sign change or a hidden double crossing (a cubic Hermite test, and steps no
+    longer than 0.5 / the fastest oscillation of the mode); a switch is then located by
+    bisection and Brent's method on the exact solution, expm(F tau) z. The run restarts
+    on the switching surface in the new mode, which is chosen by the rates, so it does
+    not fire again at once. The number of switches is bounded (``max_events``) and
+    reported.
+- ``radau``, ``bdf``, ``lsoda``, ``rk45``, ``dop853``: scipy's ``solve_ivp`` with the
+  analytic Jacobian where it takes one, restarted at every time break point and at every
+  strand switch (terminal events with their direction set);
+- ``odeint``: scipy's older LSODA wrapper with ``Dfun``, on the raw right-hand side (each
+  strand taut or slack by its own state, no events): fast on smooth networks, and the
+  trap the design warns of on switching ones, where the call budget stops it.
 - ``auto``: ``exact`` where the network allows it, else ``radau``; the result says why.
 """
 
@@ -21,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import odeint, solve_ivp  # the simulation commands import this module only
 from scipy.linalg import expm
+from scipy.optimize import brentq
 
 from beltcalc.errors import InputError, SimulationError, require_positive
 from beltcalc.sim.network import Network
@@ -31,12 +46,14 @@ from beltcalc.sim.result import SimResult
 class SolverConfig:
     """method: auto | exact | radau | bdf | lsoda | odeint | rk45 | dop853;
     rtol/atol for the step-size-controlled methods; max_rhs_calls bounds a run;
+    max_events bounds the strand switches (a strand chattering near zero tension);
     estimate_error: run the reference (half-step exact, or exact) and report the difference."""
 
     method: str = "auto"
     rtol: float = 1e-8
     atol: float = 1e-10
     max_rhs_calls: int = 5_000_000
+    max_events: int = 20_000
     estimate_error: bool = True
 
 
@@ -51,18 +68,19 @@ def _initial(network: Network, x0: np.ndarray | None) -> np.ndarray:
     return x
 
 
-def augmented_matrix(network: Network) -> np.ndarray:
-    """F of z' = F z with z = [x, g]: the network and its input generators."""
-    A, B = network.state_matrix(), network.input_matrix()
+def _augment(network: Network, A: np.ndarray, B: np.ndarray) -> np.ndarray:
     m, p = A.shape[0], B.shape[1]
     F = np.zeros((m + p, m + p))
     F[:m, :m] = A
     F[:m, m:] = B
-    for k, w in enumerate(network.frequencies()):
-        s, c = m + 1 + 2 * k, m + 2 + 2 * k
-        F[s, c] = w      # (sin w t)' = w cos w t
-        F[c, s] = -w     # (cos w t)' = -w sin w t
+    F[m:, m:] = network.generator_matrix()
     return F
+
+
+def augmented_matrix(network: Network, taut=None, t_mid: float = 0.0) -> np.ndarray:
+    """F of z' = F z with z = [x, g]: the network (strand mode ``taut``, time piece holding
+    ``t_mid``) and its input generators."""
+    return _augment(network, *network.first_order(taut, t_mid))
 
 
 def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
@@ -97,11 +115,259 @@ def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int) -> np.nda
     return z[:samples].T
 
 
+# --- switching ------------------------------------------------------------------------------
+class _Switches:
+    """The strand mode, its switches and the event budget of one run."""
+
+    def __init__(self, network: Network, z0: np.ndarray, cfg: SolverConfig, method: str):
+        self.network, self.cfg, self.method = network, cfg, method
+        delta, force = network.strand_rows()
+        d, f = delta @ z0, force @ z0
+        # at rest a strand without pretension sits on the surface; it is taut if it stretches
+        self.taut = tuple(bool(a > 0 and b > 0) for a, b in zip(d, f))
+        A, B = network.first_order(self.taut)
+        dz = np.concatenate([A @ z0[:network.size] + B @ z0[network.size:], network.generator_matrix() @ z0[network.size:]])
+        self.taut = tuple(network.taut_after(k, z0, dz, _tol(abs(d[k]) + abs(f[k]))) for k in range(len(d)))
+        self.start = self.taut
+        self.log: list[tuple[float, int, bool]] = []
+        self.located = 0
+
+    def switch(self, strand: int, t: float, z: np.ndarray, dz: np.ndarray, tol: float) -> None:
+        """Decide strand ``strand``'s mode just after ``t`` and record a change."""
+        self.located += 1
+        if self.located > self.cfg.max_events:
+            name = self.network.strands[strand].name
+            raise SimulationError(
+                f"method {self.method}: {self.cfg.max_events} strand events by t = {t:.6g} s (strand {name} "
+                "chatters near zero tension); add pretension or damping, or raise --max-events")
+        on = self.network.taut_after(strand, z, dz, tol)
+        if on != self.taut[strand]:
+            self.taut = tuple(on if k == strand else v for k, v in enumerate(self.taut))
+            self.log.append((t, strand, on))
+
+    def info(self, t_end: float) -> dict:
+        """Switch count and each strand's time slack [s]."""
+        slack = {}
+        for k, s in enumerate(self.network.strands):
+            on, since, total = self.start[k], 0.0, 0.0
+            for t, strand, state in self.log:
+                if strand == k:
+                    if not on:
+                        total += t - since
+                    on, since = state, t
+            if not on:
+                total += t_end - since
+            slack[s.name] = total
+        return {"events": len(self.log), "located": self.located, "slack_time": slack}
+
+
+def _tol(scale: float) -> float:
+    return 1e-9 * scale + 1e-300
+
+
+def _hermite_signs(G0, G1, D0, D1, h):
+    """Sign changes of the cubic Hermite interpolant of each switching function over an
+    interval (values G, rates D at both ends), counted on 9 inner points."""
+    th = np.linspace(0.0, 1.0, 11)[1:-1][:, None, None]
+    p = ((2 * th**3 - 3 * th**2 + 1) * G0 + (th**3 - 2 * th**2 + th) * h * D0
+         + (-2 * th**3 + 3 * th**2) * G1 + (th**3 - th**2) * h * D1)
+    seq = np.concatenate([G0[None], p, G1[None]])
+    return np.sum(np.diff(np.sign(seq), axis=0) != 0, axis=0)
+
+
+class _Piece:
+    """The augmented system of one strand mode on one time piece, and its switching rows."""
+
+    def __init__(self, network: Network, taut, t_mid: float, dt: float):
+        self.F = augmented_matrix(network, taut, t_mid)
+        events = network.events(taut)
+        self.events = events
+        self.H = np.array([e.row for e in events]).reshape(len(events), self.F.shape[0])
+        self.HF = self.H @ self.F
+        self.dirs = np.array([e.direction for e in events])
+        lam = np.linalg.eigvals(self.F[:network.size, :network.size])
+        fastest = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
+        self.sub = max(1, int(math.ceil(dt * fastest / 0.5)))   # steps per output step
+        self._steps: dict[float, np.ndarray] = {}
+
+    def step(self, h: float) -> np.ndarray:
+        S = self._steps.get(h)
+        if S is None:
+            S = self._steps[h] = expm(self.F * h)
+        return S
+
+    def _start(self, G0, tol, skip):
+        """Put the switching functions that just fired (``skip``) past their surface: a
+        restart on the surface must not fire them again."""
+        for e in skip:
+            if abs(G0[e]) <= 2 * tol[e]:
+                G0[e] = self.dirs[e] * 2 * tol[e]
+        return G0
+
+    def scan(self, Z: np.ndarray, h: float, skip=()):
+        """Index i of the first step Z[i] -> Z[i+1] in which a switch may happen, or None."""
+        if not self.events:
+            return None
+        G = Z @ self.H.T
+        D = Z @ self.HF.T
+        tol = _tol(np.max(np.abs(G), axis=0))
+        G0, G1 = G[:-1].copy(), G[1:]
+        G0[0] = self._start(G0[0], tol, skip)
+        crossed = np.where(self.dirs > 0, (G0 < -tol) & (G1 >= -tol) | (np.abs(G0) <= tol) & (G1 > tol),
+                           (G0 > tol) & (G1 <= tol) | (np.abs(G0) <= tol) & (G1 < -tol))
+        hidden = _hermite_signs(G0, G1, D[:-1], D[1:], h) > crossed.astype(int)
+        hidden &= (np.abs(G0) > tol) | (np.abs(G1) > tol)
+        hit = np.nonzero(np.any(crossed | hidden, axis=1))[0]
+        return int(hit[0]) if hit.size else None
+
+    def locate(self, z: np.ndarray, h: float, skip=(), depth: int = 0):
+        """The earliest switch in (0, h] from z: (tau, event index) or None."""
+        zb = expm(self.F * h) @ z
+        G0, G1 = self.H @ z, self.H @ zb
+        D0, D1 = self.HF @ z, self.HF @ zb
+        tol = _tol(np.maximum(np.abs(G0), np.abs(G1)) + np.abs(D0) * h)
+        G0 = self._start(G0, tol, skip)
+        up = self.dirs > 0
+        clean = np.where(up, (G0 < -tol) & (G1 >= -tol), (G0 > tol) & (G1 <= tol))
+        # on the surface at the start and moving through it: a switch at once (another strand
+        # switching at the same instant)
+        leaving = (np.abs(G0) <= tol) & (np.sign(D0) == self.dirs) & (np.abs(D0) * h > tol)
+        hidden = _hermite_signs(G0[None], G1[None], D0[None], D1[None], h)[0] > clean.astype(int)
+        hidden &= (np.abs(G0) > tol) | (np.abs(G1) > tol)
+        if depth < 48 and (np.any(hidden) or np.any(leaving)) and h > 1e-15:
+            left = self.locate(z, h / 2, skip, depth + 1)
+            if left is not None:
+                return left
+            right = self.locate(expm(self.F * (h / 2)) @ z, h / 2, (), depth + 1)
+            return None if right is None else (h / 2 + right[0], right[1])
+        best = None
+        for e in np.nonzero(clean | leaving)[0]:
+            row = self.H[e]
+
+            def g(tau, row=row):
+                return row @ (expm(self.F * tau) @ z)
+
+            if G0[e] * G1[e] > 0:       # a value within the tolerance of zero: at that end
+                tau = 0.0 if abs(G0[e]) <= tol[e] else h
+            elif G1[e] == 0.0:
+                tau = h
+            else:
+                tau = brentq(g, 0.0, h, xtol=1e-13 * h + 1e-300, rtol=4 * np.finfo(float).eps)
+            if best is None or tau < best[0]:
+                best = (tau, int(e))
+        return best
+
+
+def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
+    """Exact propagation between time break points and strand switches (see the module note)."""
+    N, dt, t_end, m = t.size, t[1] - t[0], t[-1], network.size
+    starts = network.segment_starts(t_end)
+    ends = starts[1:] + [math.inf]
+    z = np.concatenate([x0, network.generators(0.0)])
+    sw = _Switches(network, z, cfg, "exact")
+    out = np.empty((m, N))
+    out[:, 0] = x0
+    k, t_cur, on_grid, steps = 0, 0.0, True, 0
+    pieces: dict = {}
+    skip: tuple = ()          # switching functions that fired at the current point
+    eps = 1e-9 * dt
+    while k < N - 1:
+        seg = network.segment(t_cur + eps, starts)
+        t_stop = min(ends[seg], t_end)
+        mid = 0.5 * (starts[seg] + min(ends[seg], starts[seg] + 2 * t_end + 1.0))
+        key = (sw.taut, seg)
+        piece = pieces.get(key)
+        if piece is None:
+            piece = pieces[key] = _Piece(network, sw.taut, mid, dt)
+        q = piece.sub
+        if on_grid:
+            # whole output steps that stay inside this time piece
+            last = min(N - 1, k + max(1, 65536 // q), int(np.searchsorted(t, t_stop + eps, side="right")) - 1)
+            count, h = last - k, dt / q
+            target_grid = True
+        else:
+            count, target_grid = 0, False
+        if count >= 1:
+            S = piece.step(h)
+            nsteps = count * q
+        else:
+            target = min(t[k + 1], t_stop)
+            span = target - t_cur
+            if span <= eps:
+                t_cur, on_grid = target, target == t[k + 1]
+                if on_grid:
+                    k += 1
+                    out[:, k] = z[:m]
+                continue
+            nsteps = max(1, int(math.ceil(span / (dt / q))))
+            h = span / nsteps
+            S = expm(piece.F * h)
+            target_grid = target == t[k + 1]
+        Z = _orbit(S, z, nsteps + 1)
+        hit = piece.scan(Z, h, skip)
+        upto = nsteps if hit is None else hit
+        if upto > 0:
+            skip = ()
+        steps += upto
+        if count >= 1:
+            for i in range(q, upto + 1, q):
+                out[:, k + i // q] = Z[i, :m]
+            k += upto // q
+            t_cur = t[k] + (upto % q) * h
+            on_grid = upto % q == 0
+        else:
+            t_cur += upto * h
+            if hit is None:
+                t_cur = target
+                on_grid = target_grid
+                if target_grid:
+                    k += 1
+                    out[:, k] = Z[-1, :m]
+        z = Z[upto]
+        if hit is None:
+            continue
+        found = piece.locate(z, h, skip)
+        if found is None:         # a false alarm: take the step as it is
+            skip = ()
+            z = Z[upto + 1]
+            steps += 1
+            if count >= 1 and (upto + 1) % q == 0:
+                k += 1
+                out[:, k] = z[:m]
+                t_cur, on_grid = t[k], True
+            else:
+                t_cur += h
+                on_grid = False
+                if count == 0 and upto + 1 == nsteps:
+                    t_cur = target
+                    if target_grid:
+                        k += 1
+                        out[:, k] = z[:m]
+                        on_grid = True
+            continue
+        tau, e = found
+        z = expm(piece.F * tau) @ z if tau > 0 else z
+        t_cur += tau
+        on_grid = False
+        ev = piece.events[e]
+        before = sw.taut
+        sw.switch(ev.strand, t_cur, z, piece.F @ z, _tol(np.max(np.abs(piece.H[e] * z)) * 10))
+        # a function that fired without a switch must not fire again from the same point
+        skip = (skip if tau == 0 else ()) + ((e,) if sw.taut == before else ())
+        # a switch exactly on an output time: that sample is the state found
+        if k + 1 < N and abs(t_cur - t[k + 1]) <= eps:
+            k += 1
+            out[:, k] = z[:m]
+            t_cur, on_grid = t[k], True
+    return out, steps, 0, sw.info(t_end)
+
+
 def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
     if not network.linear:
-        raise InputError("the exact method needs a linear network with constant or sinusoidal inputs; this "
-                         "one has loads locked to a shaft angle, tabulated loads or a prescribed acceleration: "
-                         "use --method radau (or auto)", param="method")
+        raise InputError("the exact method needs a network that is linear between switches; this one has "
+                         "loads locked to a shaft angle: use --method radau (or auto)", param="method")
+    if not network.smooth:
+        return _piecewise_exact(network, t, x0, cfg)
     dt = t[1] - t[0]
     F = augmented_matrix(network)
     z0 = np.concatenate([x0, network.generators(0.0)])
@@ -109,22 +375,30 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
     return z[:network.size], t.size - 1, 0, {}
 
 
-def _rhs_and_jac(network: Network, budget: list[int]):
-    A, B = network.state_matrix(), network.input_matrix()
-    nonlinear = not network.linear
-    freqs = network.frequencies()
+# --- scipy's solvers ----------------------------------------------------------------------------
+def _generators(network: Network):
+    """A fast g(t) for one time value (the solvers call it at every step)."""
+    freqs, ramp = network.frequencies(), network.ramp
 
-    def g(t):
-        out = [1.0]
+    def gen(t):
+        out = [1.0, t] if ramp else [1.0]
         for w in freqs:
             out += [math.sin(w * t), math.cos(w * t)]
         return np.array(out)
+    return gen
+
+
+def _system(network: Network, taut, t_mid: float, budget: list[int]):
+    """rhs and Jacobian of one strand mode on one time piece."""
+    A, B = network.first_order(taut, t_mid)
+    nonlinear = not network.linear
+    gen = _generators(network)
 
     def rhs(t, x):
         budget[0] += 1
         if budget[0] > budget[1]:
             raise _Budget(t)
-        dx = A @ x + B @ g(t)
+        dx = A @ x + B @ gen(t)
         if nonlinear:
             dx += network.nonlinear_terms(t, x)
         return dx
@@ -138,38 +412,123 @@ def _rhs_and_jac(network: Network, budget: list[int]):
 def _ivp(name: str, uses_jac: bool):
     def run(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
         budget = [0, cfg.max_rhs_calls]
-        rhs, jac = _rhs_and_jac(network, budget)
-        kwargs = {"jac": jac} if uses_jac else {}
-        try:
-            sol = solve_ivp(rhs, (t[0], t[-1]), x0, method=name, t_eval=t, rtol=cfg.rtol, atol=cfg.atol, **kwargs)
-        except _Budget as stop:
-            raise SimulationError(_budget_message(name, stop.args[0], cfg)) from None
-        if sol.status != 0:
-            reached = sol.t[-1] if sol.t.size else t[0]
-            raise SimulationError(f"method {name.lower()} failed at t = {reached:.6g} s: {sol.message}; "
-                                  "try --method radau or bdf, or looser --rtol/--atol")
-        return sol.y, int(sol.nfev), int(sol.nfev), {"jacobians": int(sol.njev), "lu": int(sol.nlu)}
+        N, m, t_end = t.size, network.size, t[-1]
+        eps = 1e-9 * (t[1] - t[0])
+        starts = network.segment_starts(t_end)
+        ends = starts[1:] + [math.inf]
+        x = np.asarray(x0, dtype=float)
+        sw = _Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower())
+        out = np.empty((m, N))
+        out[:, 0] = x
+        k, t_cur, skip = 0, 0.0, ()
+        stats = {"nfev": 0, "njev": 0, "nlu": 0}
+        while k < N - 1:
+            seg = network.segment(t_cur + eps, starts)
+            t_stop = min(ends[seg], t_end)
+            mid = 0.5 * (starts[seg] + min(ends[seg], starts[seg] + 2 * t_end + 1.0))
+            rhs, jac = _system(network, sw.taut, mid, budget)
+            events = []
+            gen = _generators(network)
+            for j, ev in enumerate(network.events(sw.taut)):
+                def fn(tt, xx, row=ev.row, start=t_cur, again=j in skip, sign=ev.direction):
+                    value = row[:m] @ xx + row[m:] @ gen(tt)
+                    # a function that just fired without a switch restarts past its surface
+                    return sign * max(abs(value), 1e-300) if again and tt == start else value
+                fn.terminal, fn.direction = True, ev.direction
+                events.append(fn)
+            last = int(np.searchsorted(t, t_stop + eps, side="right")) - 1
+            t_eval = list(t[k + 1:last + 1])
+            if not t_eval or abs(t_eval[-1] - t_stop) > eps:
+                t_eval.append(t_stop)
+            kwargs = {"jac": jac} if uses_jac else {}
+            try:
+                sol = solve_ivp(rhs, (t_cur, t_stop), x, method=name, t_eval=t_eval, rtol=cfg.rtol,
+                                atol=cfg.atol, events=events or None, **kwargs)
+            except _Budget as stop:
+                raise SimulationError(_budget_message(name, stop.args[0], cfg)) from None
+            for key in stats:
+                stats[key] += int(getattr(sol, key))
+            if sol.status < 0:
+                reached = sol.t[-1] if sol.t.size else t_cur
+                raise SimulationError(f"method {name.lower()} failed at t = {reached:.6g} s: {sol.message}; "
+                                      "try --method radau or bdf, or looser --rtol/--atol")
+            grid = [j for j, tt in enumerate(sol.t) if k + 1 + j <= last and abs(tt - t[k + 1 + j]) <= eps]
+            for j in grid:
+                out[:, k + 1 + j] = sol.y[:, j]
+            k += len(grid)
+            if sol.status == 1:
+                fired = [(te[0], j) for j, te in enumerate(sol.t_events) if te.size]
+                t_e, j = min(fired)
+                x = sol.y_events[j][0]
+                z = np.concatenate([x, network.generators(t_e)])
+                ev = network.events(sw.taut)[j]
+                dz = np.concatenate([rhs(t_e, x), network.generator_matrix() @ z[m:]])
+                before = sw.taut
+                sw.switch(ev.strand, t_e, z, dz, _tol(np.max(np.abs(ev.row * z)) * 10))
+                skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())
+                t_cur = t_e
+            else:
+                t_cur, x, skip = t_stop, sol.y[:, -1], ()
+        return out, stats["nfev"], stats["nfev"], {"jacobians": stats["njev"], "lu": stats["nlu"], **sw.info(t_end)}
     return run
 
 
 def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
     budget = [0, cfg.max_rhs_calls]
-    rhs, jac = _rhs_and_jac(network, budget)
+    starts = network.segment_starts(t[-1])
+    ends = starts[1:] + [math.inf]
+    delta, force = network.strand_rows()
+    gen = _generators(network)
+    fixed = network.first_order() if network.smooth else None
+
+    def mode(tt, x):
+        if fixed is not None:
+            return fixed, None
+        seg = network.segment(tt, starts)
+        mid = 0.5 * (starts[seg] + min(ends[seg], starts[seg] + 2 * t[-1] + 1.0))
+        if not network.strands:
+            return network.first_order(None, mid), None
+        z = np.concatenate([x, gen(tt)])
+        taut = tuple(bool(v) for v in (delta @ z > 0) & (force @ z > 0))
+        return network.first_order(taut, mid), taut
+
+    def rhs(tt, x):    # the raw right-hand side: each strand taut or slack by its own state
+        budget[0] += 1
+        if budget[0] > budget[1]:
+            raise _Budget(tt)
+        (A, B), _ = mode(tt, x)
+        dx = A @ x + B @ gen(tt)
+        if not network.linear:
+            dx += network.nonlinear_terms(tt, x)
+        return dx
+
+    def jac(tt, x):
+        (A, _), _ = mode(tt, x)
+        return A + network.nonlinear_jacobian(x) if not network.linear else A
+
+    crit = np.array(network.breaks(t[-1]) + [t[-1]])
     try:
         y, info = odeint(rhs, x0, t, Dfun=jac, rtol=cfg.rtol, atol=cfg.atol, full_output=True,
-                         tfirst=True, mxstep=max(500, cfg.max_rhs_calls // max(t.size, 1)))
+                         tfirst=True, tcrit=crit, mxstep=max(500, cfg.max_rhs_calls // max(t.size, 1)))
     except _Budget as stop:
         raise SimulationError(_budget_message("odeint", stop.args[0], cfg)) from None
     if info["message"] != "Integration successful.":
         reached = float(info["tcur"][-1]) if len(info["tcur"]) else t[0]
         raise SimulationError(f"method odeint failed at t = {reached:.6g} s: {info['message']}; "
                               "try --method radau, or looser --rtol/--atol")
-    return y.T, int(info["nst"][-1]), int(info["nfe"][-1]), {"jacobians": int(info["nje"][-1])}
+    extra = {"jacobians": int(info["nje"][-1])}
+    if network.strands:   # no events: the slack time from the samples
+        taut = network.taut_of(y.T, t)
+        dt = t[1] - t[0]
+        extra["slack_time"] = {s.name: float(np.sum(~taut[k][1:]) * dt) for k, s in enumerate(network.strands)}
+        extra["events"] = int(np.sum(np.diff(taut.astype(int), axis=1) != 0))
+    return y.T, int(info["nst"][-1]), int(info["nfe"][-1]), extra
 
 
 def _budget_message(method: str, reached: float, cfg: SolverConfig) -> str:
     return (f"method {method.lower()} stopped at t = {reached:.6g} s after {cfg.max_rhs_calls} right-hand-side "
-            "calls (the system is stiff for an explicit method?); try --method radau, bdf or exact")
+            "calls (the system is stiff for an explicit method, or switches too often?); try --method exact, "
+            "radau or bdf")
 
 
 METHODS = {
@@ -186,10 +545,13 @@ METHODS = {
 def choose_method(network: Network, requested: str) -> tuple[str, str]:
     """The method to run and why."""
     if requested == "auto":
-        if network.linear:
+        if network.linear and network.smooth:
             return "exact", "auto: the network is linear with inputs in time, so its exact solution is used"
-        return "radau", ("auto: angle-locked or tabulated loads or a prescribed acceleration make the network "
-                         "nonlinear or time-varying; implicit Radau with the analytic Jacobian")
+        if network.linear:
+            return "exact", ("auto: the network is linear between strand switches and time break points, so it "
+                             "is propagated exactly and each switch is located on the exact solution")
+        return "radau", ("auto: loads locked to a shaft angle make the network nonlinear; implicit Radau with the "
+                         "analytic Jacobian")
     if requested not in METHODS:
         raise InputError(f"{requested!r} is not a method; use one of auto, {', '.join(METHODS)}", param="method")
     return requested, "requested"
@@ -228,7 +590,7 @@ def _estimate_error(result: SimResult, network: Network, t_end, samples, cfg, x0
         ref = METHODS["exact"](network, result.t, x0, cfg)[0][n:2 * n]
         label = "exact solution"
     else:
-        tight = SolverConfig("radau", cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, False)
+        tight = SolverConfig("radau", cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, cfg.max_events, False)
         ref = METHODS["radau"](network, result.t, x0, tight)[0][n:2 * n]
         label = "radau at 1/100 of the tolerances"
     result.error_estimate = float(np.max(np.abs(speeds - ref)))
@@ -240,13 +602,13 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) 
     signals, units = {}, {}
     for (name, unit), row in zip(network.state_names(), x):
         signals[name], units[name] = row, unit
-    dx = network.state_matrix() @ x + network.input_matrix() @ network.generators(t)
-    if not network.linear:
-        dx += np.column_stack([network.nonlinear_terms(t[k], x[:, k]) for k in range(t.size)])
-    for k, node in enumerate(network.nodes):
-        signals[f"accel_{node.name}"], units[f"accel_{node.name}"] = dx[n + k], "rad/s^2"
+    dx = network.derivative(t, x)
+    for k, (name, unit) in enumerate(network.accel_names()):
+        signals[name], units[name] = dx[n + k], unit
     for name, torque in network.coupling_torques(x).items():
         signals[f"T_{name}"], units[f"T_{name}"] = torque, "N m"
+    for name, force in network.strand_forces(t, x).items():
+        signals[f"F_{name}"], units[f"F_{name}"] = force, "N"
     for node, torque in network.load_torques(t, x).items():
         signals[f"load_{node}"], units[f"load_{node}"] = np.broadcast_to(torque, t.shape).copy(), "N m"
     for node, torque in network.drive_torques(t, x, dx).items():

@@ -423,7 +423,9 @@ def scene_names(command: str | None = None) -> list[str]:
 def load_scene(ref: str, command: str | None = None) -> Scene:
     """A built-in scene by name (``wdu``) or a scene file by path.
 
-    Every parameter is a table ``name = { value = "50 kg", why = "..." }``.
+    Every parameter is a table ``name = { value = "50 kg", why = "..." }``. A scene may
+    name a ``base`` scene in its ``[scene]`` table: it inherits the base's parameters and
+    overrides those it gives itself.
 
     >>> load_scene("wdu").values["mass"][0]
     '50 kg'
@@ -456,5 +458,10 @@ def load_scene(ref: str, command: str | None = None) -> Scene:
         if not isinstance(why, str) or not why.strip():
             reader.fail(f"parameters.{key}.why", "every scene value must say why it has that value")
         values[key] = (str(item["value"]), why)
+    base = head.get("base")
+    if base is not None:
+        if not isinstance(base, str) or base == path.stem:
+            reader.fail("scene.base", "must name another scene")
+        values = {**load_scene(base).values, **values}
     return Scene(name=path.stem, title=str(head.get("title", path.stem)), command=head["command"],
                  source=reader.source, values=values)

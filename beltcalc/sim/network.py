@@ -203,6 +203,11 @@ class InductionMotor:
     supply omega_c = 2 pi f [rad/s]. Eq. (2) of Mamatova et al. 2016 (after Pinchuk 1957):
     a lag of time constant 1/(omega_c S_c) on the linearised Kloss characteristic
     M = 2 M_c s / S_c, s = (omega_0 - omega)/omega_0.
+
+    ``sync_table`` (t [s], rad/s): an inverter start. The synchronous speed follows the
+    table while the characteristic keeps its slope 2 M_c / (S_c omega_0) (V/f control holds
+    the slip speed at breakdown), so the motor stays on the linear part of its curve; a
+    direct-on-line start from rest is far outside it (the line gives 2 M_c / S_c at s = 1).
     """
 
     node: str
@@ -210,6 +215,7 @@ class InductionMotor:
     breakdown_slip: float
     sync_speed: float
     supply: float
+    sync_table: Points = ()
 
     def static_torque(self, speed: float) -> float:
         """The steady torque at ``speed`` [N m]: 2 M_c (omega_0 - omega) / (omega_0 S_c)."""
@@ -290,6 +296,7 @@ class Network:
                 raise InputError(f"the motor must sit on a free node, not {m.node!r}", param="network")
             for name in ("breakdown_torque", "breakdown_slip", "sync_speed", "supply"):
                 require_positive(name, getattr(m, name), "")
+            check_points(m.sync_table, "synchronous speed")
         n = self.n
         self.M = np.diag([node.J for node in self.nodes]).astype(float)
         self._K0, self._D0 = self._assemble_couplings()
@@ -329,7 +336,7 @@ class Network:
     def ramp(self) -> bool:
         """True when a piecewise-linear input needs the generator ``t``."""
         return (any(ld.table for ld in self.loads) or any(p.accel for p in self.prescribed)
-                or bool(self.speed_loops))
+                or bool(self.speed_loops) or bool(self.motor and self.motor.sync_table))
 
     @property
     def smooth(self) -> bool:
@@ -339,9 +346,7 @@ class Network:
     def breaks(self, t_end: float) -> list[float]:
         """The times in (0, t_end) where a piecewise-linear input changes its piece."""
         times = set()
-        tables = [ld.table for ld in self.loads] + [p.accel for p in self.prescribed]
-        tables += [s.reference for s in self.speed_loops] + [s.feedforward for s in self.speed_loops]
-        for table in tables:
+        for table in self._tables():
             times.update(p[0] for p in table)
         return sorted(t for t in times if 0.0 < t < t_end)
 
@@ -442,10 +447,15 @@ class Network:
             hit = self._cache[key] = self._build(taut, t_mid, constrained)
         return hit
 
+    def _tables(self) -> list[Points]:
+        """Every piecewise-linear input table."""
+        tables = [ld.table for ld in self.loads] + [p.accel for p in self.prescribed]
+        tables += [s.reference for s in self.speed_loops] + [s.feedforward for s in self.speed_loops]
+        return tables + [self.motor.sync_table] if self.motor else tables
+
     def _pieces(self, t_mid):
         """The active piece of every table (a cache key)."""
-        for table in ([ld.table for ld in self.loads] + [p.accel for p in self.prescribed]
-                      + [s.reference for s in self.speed_loops] + [s.feedforward for s in self.speed_loops]):
+        for table in self._tables():
             yield _piece(table, t_mid) if table else (0.0, 0.0)
 
     def _build(self, taut, t_mid, constrained):
@@ -472,7 +482,13 @@ class Network:
             A[n + k, 2 * n] = Minv[k]                      # motor torque drives its node
             A[2 * n, n + k] = -2 * mo.breakdown_torque * mo.supply / mo.sync_speed
             A[2 * n, 2 * n] = -mo.supply * mo.breakdown_slip
-            B[2 * n, 0] = 2 * mo.breakdown_torque * mo.supply      # 2 M_c w_c / w_0 * w_0
+            gain = 2 * mo.breakdown_torque * mo.supply / mo.sync_speed
+            if mo.sync_table:                              # 2 M_c w_c / w_0 * w_0(t)
+                a, c = _piece(mo.sync_table, t_mid)
+                B[2 * n, 0] = gain * a
+                B[2 * n, ramp] = gain * c
+            else:
+                B[2 * n, 0] = gain * mo.sync_speed
         for s, on, g in zip(self.strands, taut, self._G):
             if on and s.preload:                           # the pretension: -G^T F0
                 for k in np.nonzero(g)[0]:

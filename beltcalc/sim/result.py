@@ -58,6 +58,18 @@ class SimResult:
         lo, hi = float(y.min()), float(y.max())
         return Summary(float(y.mean()), 0.5 * (hi - lo), float(np.sqrt(np.mean(y * y))), lo, hi)
 
+    def settle_time(self, name: str, target: float, band: float, start: float = 0.0,
+                    end: float | None = None) -> float | None:
+        """The first time >= ``start`` after which ``|signal - target| <= band`` holds up to
+        ``end`` [s]; None if it never settles inside the window."""
+        mask = self.window(start, end)
+        t, y = self.t[mask], self.signals[name][mask]
+        outside = np.nonzero(np.abs(y - target) > band)[0]
+        if outside.size == 0:
+            return float(t[0]) if t.size else None
+        last = outside[-1]
+        return None if last + 1 >= t.size else float(t[last + 1])
+
     def csv_text(self, names: list[str] | None = None) -> str:
         """CSV with the units in the header (``t_s``, ``omega_3_rad_per_s``, ...)."""
         names = names or list(self.signals)

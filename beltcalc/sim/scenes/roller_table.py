@@ -1,0 +1,197 @@
+"""The roller-table drive of Rusek & Popenda as a network: induction motor -> elastic
+coupling -> two-stage gear reducer -> gear output shaft and clutch in series (eq. 3) ->
+driving sprocket -> chain strands, tension only (eq. 8-11) -> roller sprockets (and idler
+sprockets) -> each roller: a shaft to its drive end, the tube to its far end, a load torque
+at each end. Assembled from the components (Lagrange with Rayleigh dissipation in
+:mod:`beltcalc.sim.network`), not typed from the paper's eq. 14-15. SI floats only.
+
+Routing (``routing``):
+
+- ``serpentine`` (the paper's Fig. 1): one chain from the driving sprocket over roller 1,
+  (an idler,) roller 2, ... roller n and back to the driving sprocket;
+- ``loops``: roller to roller, each pair of neighbours joined by its own chain loop (a
+  tight and a slack strand), the first loop from the driving sprocket to roller 1.
+
+Every strand is pretensioned by ``pretension`` [N]. A strand's mass is split between the
+two sprockets it joins (as inertia m L / 2 r^2).
+"""
+
+from __future__ import annotations
+
+import math
+
+from beltcalc.chain import load_split, placement_factor, sprocket_pitch_diameter, strand_stiffness, torsional_stiffness
+from beltcalc.drive import cylinder_inertia
+from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network, Strand, series_stiffness
+
+ROUTINGS = ("serpentine", "loops")
+POSITIVE = {
+    "chain_pitch": "m", "chain_mass": "kg/m", "chain_breaking_load": "N", "chain_stiffness": "N",
+    "strand_length": "m", "drive_strand_length": "m", "sprocket_thickness": "m",
+    "roller_diameter": "m", "roller_wall": "m", "roller_length": "m", "steel_density": "kg/m^3",
+    "shear_modulus": "Pa", "shaft_diameter": "m", "shaft_length": "m", "motor_inertia": "kg*m^2",
+    "rated_torque": "N*m", "breakdown_factor": "", "supply_frequency": "Hz", "ramp_time": "s",
+    "coupling_stiffness": "N*m/rad", "coupling_inertia": "kg*m^2", "stage1_ratio": "", "stage2_ratio": "",
+    "gear_input_inertia": "kg*m^2", "gear_middle_inertia": "kg*m^2", "gear_output_inertia": "kg*m^2",
+    "output_shaft_stiffness": "N*m/rad", "clutch_stiffness": "N*m/rad", "element_width": "m",
+}
+NONNEGATIVE = {
+    "pretension": "N", "chain_damping_time": "s", "damping_time": "s", "coupling_damping": "N*m*s/rad",
+    "idler_inertia": "kg*m^2", "roller_load": "N*m", "load_amplitude": "N*m", "load_frequency": "rad/s",
+    "load_start": "s", "element_offset": "m",
+}
+
+
+def _name(key: str) -> str:
+    return f"--set {key}"
+
+
+def check(p: dict) -> None:
+    """Refuse parameter values that make no physical sense, naming them as ``--set NAME``."""
+    for key, unit in POSITIVE.items():
+        require_positive(_name(key), p[key], unit)
+    for key, unit in NONNEGATIVE.items():
+        require_range(_name(key), p[key], unit, low=0.0)
+    rollers = p["rollers"]
+    if rollers != int(rollers) or not 1 <= rollers <= 200:
+        raise InputError(f"{rollers:g} rollers is not allowed; it must be a whole number 1..200", param=_name("rollers"))
+    for key in ("drive_teeth", "roller_teeth", "idler_teeth", "pole_pairs"):
+        low = 1 if key == "pole_pairs" else 3
+        if p[key] != int(p[key]) or p[key] < low:
+            raise InputError(f"{p[key]:g} is not allowed; it must be a whole number >= {low}", param=_name(key))
+    if p["routing"] not in ROUTINGS:
+        raise InputError(f"{p['routing']!r} is not a routing; use one of {', '.join(ROUTINGS)}", param=_name("routing"))
+    require_range(_name("breakdown_slip"), p["breakdown_slip"], "", 0.0, 1.0, low_open=True, high_open=True)
+    require_range(_name("roller_wall"), p["roller_wall"], "m", 0.0, p["roller_diameter"] / 2, low_open=True,
+                  high_open=True)
+    require_range(_name("element_width"), p["element_width"], "m", 0.0, p["roller_length"], low_open=True)
+    require_range(_name("element_offset"), p["element_offset"], "m", 0.0, p["roller_length"] - p["element_width"])
+
+
+def synchronous_speed(p: dict) -> float:
+    """The motor's synchronous speed [rad/s]: 2 pi f / pole pairs."""
+    return 2 * math.pi * p["supply_frequency"] / p["pole_pairs"]
+
+
+def total_ratio(p: dict) -> float:
+    """Motor speed / roller speed [-]: the two gear stages and the sprockets."""
+    return p["stage1_ratio"] * p["stage2_ratio"] * p["roller_teeth"] / p["drive_teeth"]
+
+
+def steady_speed(p: dict) -> float:
+    r"""Steady roller speed [rad/s] under the mean loads.
+
+    In steady rotation every strand and shaft holds a constant twist, so the motor carries
+    the roller loads through the ratios: :math:`M_m = n M_{roller} / i_{tot}`, and the
+    linearised characteristic (Mamatova et al., eq. 2) gives
+    :math:`\omega_m = \omega_0 (1 - S_c M_m / (2 M_c))`; the rollers turn at
+    :math:`\omega_m / i_{tot}`.
+    """
+    torque = p["rollers"] * p["roller_load"] / total_ratio(p)
+    w0 = synchronous_speed(p)
+    mc = p["breakdown_factor"] * p["rated_torque"]
+    return w0 * (1 - p["breakdown_slip"] * torque / (2 * mc)) / total_ratio(p)
+
+
+def roller_inertia(p: dict) -> float:
+    """Inertia of one roller tube [kg m^2] (a steel tube of the stated size)."""
+    d = p["roller_diameter"]
+    return cylinder_inertia(d, d - 2 * p["roller_wall"], p["roller_length"], p["steel_density"])
+
+
+def sprocket_inertia(p: dict, teeth: int) -> float:
+    """A sprocket as a steel disc of its pitch diameter and the stated thickness [kg m^2]."""
+    d = sprocket_pitch_diameter(p["chain_pitch"], teeth)
+    return cylinder_inertia(d, 0.0, p["sprocket_thickness"], p["steel_density"])
+
+
+def strands(p: dict) -> list[tuple[str, str, str, float, float]]:
+    """The chain routing: (name, from node, to node, length [m], from-radius/to-radius tag)."""
+    n = int(p["rollers"])
+    rollers = [f"sprocket{k}" for k in range(1, n + 1)]
+    pitch, first = p["strand_length"], p["drive_strand_length"]
+    out = []
+    if p["routing"] == "serpentine":
+        path = ["drive"]
+        for k, r in enumerate(rollers):
+            if k and p["idler_inertia"] > 0:
+                path.append(f"idler{k}")
+            path.append(r)
+        lengths = []
+        for a, b in zip(path, path[1:]):
+            step = first if a == "drive" else (pitch / 2 if (a.startswith("idler") or b.startswith("idler")) else pitch)
+            lengths.append(step)
+        back = sum(lengths)      # the return strand runs back along the table
+        for (a, b), length in zip(zip(path, path[1:]), lengths):
+            out.append((f"{a}-{b}", a, b, length))
+        out.append((f"{path[-1]}-drive", path[-1], "drive", back))
+    else:
+        ends = ["drive"] + rollers
+        for k, (a, b) in enumerate(zip(ends, ends[1:])):
+            length = first if k == 0 else pitch
+            out.append((f"{a}-{b}", a, b, length))
+            out.append((f"{b}-{a}", b, a, length))
+    return out
+
+
+def build(p: dict) -> Network:
+    """The network of the scene's parameters ``p`` (SI floats and texts, keys as in roller_table.toml)."""
+    check(p)
+    n = int(p["rollers"])
+    beta, beta_chain = p["damping_time"], p["chain_damping_time"]
+    radius = {"drive": sprocket_pitch_diameter(p["chain_pitch"], int(p["drive_teeth"])) / 2}
+    J = {
+        "motor": p["motor_inertia"] + p["coupling_inertia"] / 2,
+        "gear": (p["coupling_inertia"] / 2 + p["gear_input_inertia"] + p["gear_middle_inertia"] / p["stage1_ratio"] ** 2
+                 + p["gear_output_inertia"] / (p["stage1_ratio"] * p["stage2_ratio"]) ** 2),
+        "drive": sprocket_inertia(p, int(p["drive_teeth"])),
+    }
+    roller = roller_inertia(p)
+    for k in range(1, n + 1):
+        radius[f"sprocket{k}"] = sprocket_pitch_diameter(p["chain_pitch"], int(p["roller_teeth"])) / 2
+        J[f"sprocket{k}"] = sprocket_inertia(p, int(p["roller_teeth"])) * (2 if p["routing"] == "loops" and k < n else 1)
+        J[f"end{k}a"] = J[f"end{k}b"] = roller / 2
+    routing = strands(p)
+    for name, a, b, _ in routing:
+        for node in (a, b):
+            if node.startswith("idler") and node not in J:
+                J[node] = p["idler_inertia"]
+                radius[node] = sprocket_pitch_diameter(p["chain_pitch"], int(p["idler_teeth"])) / 2
+    for name, a, b, length in routing:      # half of each strand's mass on either sprocket
+        for node in (a, b):
+            J[node] += p["chain_mass"] * length / 2 * radius[node] ** 2
+    nodes = [Inertia(name, value) for name, value in J.items()]
+
+    c23 = series_stiffness(p["output_shaft_stiffness"], p["clutch_stiffness"])
+    c_shaft = torsional_stiffness(p["shaft_diameter"], 0.0, p["shaft_length"], p["shear_modulus"])
+    c_tube = torsional_stiffness(p["roller_diameter"], p["roller_diameter"] - 2 * p["roller_wall"],
+                                 p["roller_length"], p["shear_modulus"])
+    ratio = p["stage1_ratio"] * p["stage2_ratio"]
+    couplings = [
+        Coupling("coupling", "motor", "gear", p["coupling_stiffness"], p["coupling_damping"]),
+        # output shaft + clutch: C (phi_drive - phi_gear / i), the reducer's output angle
+        Coupling("clutch", "drive", "gear", c23, beta * c23, 1.0 / ratio),
+    ]
+    for k in range(1, n + 1):
+        couplings.append(Coupling(f"shaft{k}", f"sprocket{k}", f"end{k}a", c_shaft, beta * c_shaft))
+        couplings.append(Coupling(f"tube{k}", f"end{k}a", f"end{k}b", c_tube, beta * c_tube))
+    chain = []
+    for name, a, b, length in routing:
+        c = strand_stiffness(p["chain_stiffness"], length)
+        chain.append(Strand(name, a, b, radius[a], radius[b], c, beta_chain * c, p["pretension"]))
+
+    near, far = load_split(placement_factor(p["element_offset"], p["element_width"], p["roller_length"]),
+                           p["element_width"], p["roller_length"])
+    loads = []
+    t0 = p["load_start"]
+    for k in range(1, n + 1):
+        for end, share in (("a", near), ("b", far)):
+            mean = share * p["roller_load"]
+            table = ((t0, 0.0), (t0, mean)) if t0 > 0 else ()
+            loads.append(Load(f"end{k}{end}", 0.0 if table else mean, share * p["load_amplitude"],
+                              p["load_frequency"], table=table))
+    w0 = synchronous_speed(p)
+    motor = InductionMotor("motor", p["breakdown_factor"] * p["rated_torque"], p["breakdown_slip"], w0,
+                           2 * math.pi * p["supply_frequency"], sync_table=((0.0, 0.0), (p["ramp_time"], w0)))
+    return Network(nodes, couplings, loads, motor, strands=chain)

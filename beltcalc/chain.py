@@ -48,7 +48,7 @@ def torsional_stiffness(outer_diameter: float, inner_diameter: float, length: fl
     D, d outer and bore diameter [m] (d = 0: solid), L length [m], G shear modulus [Pa].
 
     >>> round(torsional_stiffness(0.06, 0.0, 0.15, 81e9))
-    686983
+    687066
     """
     require_positive("outer_diameter", outer_diameter, "m")
     require_range("inner_diameter", inner_diameter, "m", 0.0, outer_diameter, high_open=True)

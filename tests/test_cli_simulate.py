@@ -407,7 +407,7 @@ def test_sweep_json_rows_equal_single_runs():
                          ("accel_amplitude", "accel_amplitude_rad_per_s2"),
                          ("torque_amplitude", "torque_amplitude_N_m"), ("torque_mean", "torque_mean_N_m")):
             assert rows[1][f"{shaft}_{col}"] == pytest.approx(value(single, shaft, key), rel=1e-10), (shaft, key)
-    assert rows[1]["speed_mean_main_rad_per_s"] == pytest.approx(value(single, "main", "speed_mean"), rel=1e-12)
+    assert rows[1]["main_speed_mean_rad_per_s"] == pytest.approx(value(single, "main", "speed_mean"), rel=1e-12)
 
 
 def test_sweep_csv_is_the_sweep_table(tmp_path):

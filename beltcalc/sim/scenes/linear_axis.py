@@ -173,7 +173,7 @@ def two_mass_frequency(rotating: float, lever: float, mass: float, stiffness: fl
     (the two-mass value w^2 = C (1/J1 + 1/J2) with the carriage reflected to the motor).
 
     >>> round(two_mass_frequency(1e-3, 0.005, 50.0, 1e5), 3)
-    29.002
+    10.676
     """
     return math.sqrt(stiffness * (1.0 / mass + lever ** 2 / rotating)) / (2 * math.pi)
 
@@ -188,7 +188,7 @@ def span_stiffness(specific_stiffness: float, center_distance: float, pulley_dia
     back to the drive pulley round the (free) idler. The paper uses C_spec / a for one span.
 
     >>> round(span_stiffness(1e6, 1.0, 0.1, 0.5) / 1e6, 4)
-    2.5885
+    2.6035
     """
     require_range("position", position, "m", 0.0, center_distance, low_open=True)
     l2 = 2 * center_distance - position + math.pi * pulley_diameter / 2

@@ -119,20 +119,19 @@ def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int) -> np.nda
 class _Switches:
     """The strand mode, its switches and the event budget of one run."""
 
-    def __init__(self, network: Network, z0: np.ndarray, cfg: SolverConfig, method: str):
+    def __init__(self, network: Network, z0: np.ndarray, cfg: SolverConfig, method: str, h: float):
         self.network, self.cfg, self.method = network, cfg, method
         delta, force = network.strand_rows()
         d, f = delta @ z0, force @ z0
         # at rest a strand without pretension sits on the surface; it is taut if it stretches
         self.taut = tuple(bool(a > 0 and b > 0) for a, b in zip(d, f))
-        A, B = network.first_order(self.taut)
-        dz = np.concatenate([A @ z0[:network.size] + B @ z0[network.size:], network.generator_matrix() @ z0[network.size:]])
-        self.taut = tuple(network.taut_after(k, z0, dz, _tol(abs(d[k]) + abs(f[k]))) for k in range(len(d)))
+        F = augmented_matrix(network, self.taut)
+        self.taut = tuple(network.taut_after(k, z0, F @ z0, _ahead(F, z0, h), h) for k in range(len(d)))
         self.start = self.taut
         self.log: list[tuple[float, int, bool]] = []
         self.located = 0
 
-    def switch(self, strand: int, t: float, z: np.ndarray, dz: np.ndarray, tol: float) -> None:
+    def switch(self, strand: int, t: float, z: np.ndarray, F: np.ndarray, h: float) -> None:
         """Decide strand ``strand``'s mode just after ``t`` and record a change."""
         self.located += 1
         if self.located > self.cfg.max_events:
@@ -140,7 +139,7 @@ class _Switches:
             raise SimulationError(
                 f"method {self.method}: {self.cfg.max_events} strand events by t = {t:.6g} s (strand {name} "
                 "chatters near zero tension); add pretension or damping, or raise --max-events")
-        on = self.network.taut_after(strand, z, dz, tol)
+        on = self.network.taut_after(strand, z, F @ z, _ahead(F, z, h), h)
         if on != self.taut[strand]:
             self.taut = tuple(on if k == strand else v for k, v in enumerate(self.taut))
             self.log.append((t, strand, on))
@@ -159,6 +158,13 @@ class _Switches:
                 total += t_end - since
             slack[s.name] = total
         return {"events": len(self.log), "located": self.located, "slack_time": slack}
+
+
+def _ahead(F: np.ndarray, z: np.ndarray, h: float) -> np.ndarray:
+    """The state a moment (1e-6 h) later, by its Taylor series to second order."""
+    eps = 1e-6 * h
+    dz = F @ z
+    return z + eps * dz + 0.5 * eps ** 2 * (F @ dz)
 
 
 def _tol(scale: float) -> float:
@@ -239,7 +245,8 @@ class _Piece:
         clean = np.where(up, (G0 < -tol) & (G1 >= -tol), (G0 > tol) & (G1 <= tol))
         # on the surface at the start and moving through it: a switch at once (another strand
         # switching at the same instant)
-        leaving = (np.abs(G0) <= tol) & (np.sign(D0) == self.dirs) & (np.abs(D0) * h > tol)
+        leaving = (np.abs(G0) <= tol) & (((np.sign(D0) == self.dirs) & (np.abs(D0) * h > tol))
+                                         | (self.dirs * G1 > tol))
         hidden = _hermite_signs(G0[None], G1[None], D0[None], D1[None], h)[0] > clean.astype(int)
         hidden &= (np.abs(G0) > tol) | (np.abs(G1) > tol)
         if depth < 48 and (np.any(hidden) or np.any(leaving)) and h > 1e-15:
@@ -272,7 +279,7 @@ def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: Solve
     starts = network.segment_starts(t_end)
     ends = starts[1:] + [math.inf]
     z = np.concatenate([x0, network.generators(0.0)])
-    sw = _Switches(network, z, cfg, "exact")
+    sw = _Switches(network, z, cfg, "exact", dt)
     out = np.empty((m, N))
     out[:, 0] = x0
     k, t_cur, on_grid, steps = 0, 0.0, True, 0
@@ -359,7 +366,7 @@ def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: Solve
         on_grid = False
         ev = piece.events[e]
         before = sw.taut
-        sw.switch(ev.strand, t_cur, z, piece.F @ z, _tol(np.max(np.abs(piece.H[e] * z)) * 10))
+        sw.switch(ev.strand, t_cur, z, piece.F, h)
         # a function that fired without a switch must not fire again from the same point
         skip = (skip if tau == 0 else ()) + ((e,) if sw.taut == before else ())
         # a switch exactly on an output time: that sample is the state found
@@ -425,7 +432,7 @@ def _ivp(name: str, uses_jac: bool):
         starts = network.segment_starts(t_end)
         ends = starts[1:] + [math.inf]
         x = np.asarray(x0, dtype=float)
-        sw = _Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower())
+        sw = _Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower(), t[1] - t[0])
         out = np.empty((m, N))
         out[:, 0] = x
         k, t_cur, skip = 0, 0.0, ()
@@ -470,9 +477,8 @@ def _ivp(name: str, uses_jac: bool):
                 x = sol.y_events[j][0]
                 z = np.concatenate([x, network.generators(t_e)])
                 ev = network.events(sw.taut)[j]
-                dz = np.concatenate([rhs(t_e, x), network.generator_matrix() @ z[m:]])
                 before = sw.taut
-                sw.switch(ev.strand, t_e, z, dz, _tol(np.max(np.abs(ev.row * z)) * 10))
+                sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0])
                 skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())
                 t_cur = t_e
             else:

@@ -637,6 +637,27 @@ def _axis_timing(values: dict, model) -> tuple[float, int]:
     return t_end, samples
 
 
+def _span_rows(model, values: dict) -> list[Row]:
+    """First natural frequency with both belt paths counted, k = C_spec / L1 + C_spec / L2,
+    the carriage at the start, middle and end of a stroke centred on the span."""
+    from dataclasses import replace as with_
+
+    from beltcalc.sim.scenes import linear_axis as la
+
+    a, stroke = values["center_distance"], values["stroke"]
+    if model.belt_model != "substitute" or stroke >= a:
+        return []
+    c_spec = model.stiffness * a                       # k_TB = C_spec / a
+    rows = []
+    for key, label, where in (("start", "start", (a - stroke) / 2), ("mid", "middle", a / 2),
+                              ("end", "end", (a + stroke) / 2)):
+        k = la.span_stiffness(c_spec, a, model.axis.pulley_diameter, where)
+        f = la.first_frequency(la.build(with_(model, stiffness=k)))
+        rows.append(Row(f"first_frequency_spans_{key}", f"  with both spans, carriage at the {label}", f, "Hz",
+                        note=f"k = {k / model.stiffness:.2f} k_TB"))
+    return rows
+
+
 def _axis_build(values: dict, flags: dict):
     from beltcalc.sim.scenes.linear_axis import build
 
@@ -680,7 +701,7 @@ def _axis_run(values: dict, cfg, flags: dict, errors: bool) -> Outcome:
             Row("stiffness", "k_TB = C_spec / a", model.stiffness, "N/m"),
             Row("damping", "b_TB", model.damping, "N*s/m"),
             Row("first_frequency", "first natural frequency", f1, "Hz"),
-        ]),
+        ] + _span_rows(model, values)),
         Section(("carriage",), "carriage", [
             Row("following_error_max", "following error, max during the move",
                 float(np.abs(error[during]).max()), "m", "mm"),

@@ -629,7 +629,7 @@ def _axis_timing(values: dict, model) -> tuple[float, int]:
     from beltcalc.sim.scenes.linear_axis import move_time
 
     require_positive("--set after_move", values["after_move"], "s")
-    require_positive("dt", values["step"], "s")
+    require_positive("--set step", values["step"], "s")
     t_end = move_time(model) + values["after_move"]
     samples = int(round(t_end / values["step"])) + 1
     if samples > 10_000_000:
@@ -653,6 +653,8 @@ def _span_rows(model, values: dict) -> list[Row]:
                               ("end", "end", (a + stroke) / 2)):
         k = la.span_stiffness(c_spec, a, model.axis.pulley_diameter, where)
         f = la.first_frequency(la.build(with_(model, stiffness=k)))
+        if f is None:
+            continue
         rows.append(Row(f"first_frequency_spans_{key}", f"  with both spans, carriage at the {label}", f, "Hz",
                         note=f"k = {k / model.stiffness:.2f} k_TB"))
     return rows
@@ -688,8 +690,10 @@ def _axis_run(values: dict, cfg, flags: dict, errors: bool) -> Outcome:
     pretension = report.tension_peak
     worst = float(np.abs(force).max())
     duty = model.duty
-    cycle = result.window(0.0, sizing.profile.cycle_time)
-    rms = float(np.sqrt(np.trapezoid(torque[cycle] ** 2, result.t[cycle]) / result.t[cycle][-1]))
+    cycle_time = sizing.profile.cycle_time
+    cycle = result.window(0.0, cycle_time)
+    rms = (float(np.sqrt(np.trapezoid(torque[cycle] ** 2, result.t[cycle]) / cycle_time))
+           if t_end >= cycle_time - 1e-12 else None)
     f1 = la.first_frequency(net)
     sections = [
         Section(("belt",), "belt", [
@@ -718,9 +722,14 @@ def _axis_run(values: dict, cfg, flags: dict, errors: bool) -> Outcome:
         ]),
     ]
     mass_model = flags.get("substitute_mass_model") or "eq7"
+    if rms is None:
+        notes_rms = ["the run ends before the cycle (move + dwell): no RMS; raise --set after_move"]
+    else:
+        notes_rms = []
     notes = [f"drive: {model.drive}; belt: {model.belt_model}"
              + (f" (eq. 1, {model.chain_units} units)" if model.belt_model == "chain" else
                 f" (m_TB = {model.axis.substitute_mass * 1e3:.4g} g by {mass_model})")]
+    notes += notes_rms
     if settle is None:
         notes.append("the carriage has not settled by the end of the run: raise --set after_move=...")
     if pretension < worst:

@@ -289,7 +289,7 @@ def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: Solve
     while k < N - 1:
         seg = network.segment(t_cur + eps, starts)
         t_stop = min(ends[seg], t_end)
-        mid = 0.5 * (starts[seg] + min(ends[seg], starts[seg] + 2 * t_end + 1.0))
+        mid = network.piece_time(seg, starts, t_end)
         key = (sw.taut, seg)
         piece = pieces.get(key)
         if piece is None:
@@ -440,7 +440,7 @@ def _ivp(name: str, uses_jac: bool):
         while k < N - 1:
             seg = network.segment(t_cur + eps, starts)
             t_stop = min(ends[seg], t_end)
-            mid = 0.5 * (starts[seg] + min(ends[seg], starts[seg] + 2 * t_end + 1.0))
+            mid = network.piece_time(seg, starts, t_end)
             rhs, jac = _system(network, sw.taut, mid, budget)
             events = []
             gen = _generators(network)
@@ -452,7 +452,7 @@ def _ivp(name: str, uses_jac: bool):
                 fn.terminal, fn.direction = True, ev.direction
                 events.append(fn)
             last = int(np.searchsorted(t, t_stop + eps, side="right")) - 1
-            t_eval = list(t[k + 1:last + 1])
+            t_eval = [min(tt, t_stop) for tt in t[k + 1:last + 1]]   # a sample within eps past the break
             if not t_eval or abs(t_eval[-1] - t_stop) > eps:
                 t_eval.append(t_stop)
             kwargs = {"jac": jac} if uses_jac else {}
@@ -499,7 +499,7 @@ def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
         if fixed is not None:
             return fixed, None
         seg = network.segment(tt, starts)
-        mid = 0.5 * (starts[seg] + min(ends[seg], starts[seg] + 2 * t[-1] + 1.0))
+        mid = network.piece_time(seg, starts, t[-1])
         if not network.strands:
             return network.first_order(None, mid), None
         z = np.concatenate([x, gen(tt)])
@@ -528,6 +528,7 @@ def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
         raise SimulationError(_budget_message("odeint", stop.args[0], cfg)) from None
     if info["message"] != "Integration successful.":
         reached = float(info["tcur"][-1]) if len(info["tcur"]) else t[0]
+        reached = reached if 0 <= reached <= t[-1] else t[0]
         raise SimulationError(f"method odeint failed at t = {reached:.6g} s: {info['message']}; "
                               "try --method radau, or looser --rtol/--atol")
     extra = {"jacobians": int(info["nje"][-1])}
@@ -619,13 +620,16 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) 
     dx = network.derivative(t, x)
     for k, (name, unit) in enumerate(network.accel_names()):
         signals[name], units[name] = dx[n + k], unit
-    for name, torque in network.coupling_torques(x).items():
-        signals[f"T_{name}"], units[f"T_{name}"] = torque, "N m"
+    def unit(node):   # the generalised force on a node: a force on a translating one
+        return "N" if network.nodes[network.index[node]].translation else "N m"
+
+    for c, (name, torque) in zip(network.couplings, network.coupling_torques(x).items()):
+        signals[f"T_{name}"], units[f"T_{name}"] = torque, unit(c.i)
     for name, force in network.strand_forces(t, x).items():
         signals[f"F_{name}"], units[f"F_{name}"] = force, "N"
     for node, torque in network.load_torques(t, x).items():
-        signals[f"load_{node}"], units[f"load_{node}"] = np.broadcast_to(torque, t.shape).copy(), "N m"
+        signals[f"load_{node}"], units[f"load_{node}"] = np.broadcast_to(torque, t.shape).copy(), unit(node)
     for node, torque in network.drive_torques(t, x, dx).items():
-        signals[f"T_drive_{node}"], units[f"T_drive_{node}"] = np.broadcast_to(torque, t.shape).copy(), "N m"
+        signals[f"T_drive_{node}"], units[f"T_drive_{node}"] = np.broadcast_to(torque, t.shape).copy(), unit(node)
     return SimResult(t=t, signals=signals, units=units, method=method, reason=reason, wall_time=wall,
                      steps=steps, rhs_calls=calls, states=x, extra=extra)

@@ -434,6 +434,13 @@ class Network:
         """Index of the segment that holds ``t`` (a break point belongs to the later one)."""
         return int(np.searchsorted(starts, t, side="right")) - 1
 
+    @staticmethod
+    def piece_time(seg: int, starts: list[float], t_end: float) -> float:
+        """A time inside segment ``seg`` of a run ending at ``t_end`` (its middle): the key to
+        its input pieces. The last segment ends at t_end, not at a break beyond the run."""
+        end = starts[seg + 1] if seg + 1 < len(starts) else max(t_end, starts[seg])
+        return starts[seg] + 0.5 * (end - starts[seg]) if end > starts[seg] else starts[seg]
+
     def first_order(self, taut: tuple[bool, ...] | None = None, t_mid: float = 0.0,
                     constrained: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """(A, B) of x' = A x + B g on the time piece that holds ``t_mid``, with the strands
@@ -601,7 +608,8 @@ class Network:
         single = x.ndim == 1
         X = x[:, None] if single else x
         T = np.broadcast_to(np.asarray(t, dtype=float), (X.shape[1],))
-        starts = self.segment_starts(float(T.max()) + 1.0)
+        t_end = float(T.max())
+        starts = self.segment_starts(t_end)
         seg = np.searchsorted(starts, T, side="right") - 1
         taut = self.taut_of(X, T) if self.strands else np.ones((0, X.shape[1]), bool)
         G = self.generators(T)
@@ -609,9 +617,7 @@ class Network:
         keys = [tuple(taut[:, j]) + (int(seg[j]),) for j in range(X.shape[1])]
         for key in set(keys):
             cols = [j for j, k in enumerate(keys) if k == key]
-            s = key[-1]
-            end = starts[s + 1] if s + 1 < len(starts) else starts[s] + 2.0
-            A, B = self.first_order(key[:-1], 0.5 * (starts[s] + end), constrained)
+            A, B = self.first_order(key[:-1], self.piece_time(key[-1], starts, t_end), constrained)
             out[:, cols] = A @ X[:, cols] + B @ G[:, cols]
         if not self.linear:
             out += self.nonlinear_terms(T, X, constrained)

@@ -66,18 +66,19 @@ class AxisModel:
 
     @property
     def chain_units(self) -> int:
-        """Mass-spring-damper units of the eq. 1 chain: z - 1, rounded."""
-        return max(1, int(round(self.teeth - 1)))
+        """Mass-spring-damper units of the eq. 1 chain: the whole pitches on the span, z - 1
+        rounded down (124 for the WDU axis, z = 125.5)."""
+        return max(1, int(math.floor(self.teeth - 1 + 1e-9)))
 
     def check(self) -> None:
         if self.drive not in DRIVES:
-            raise InputError(f"{self.drive!r} is not a drive; use one of {', '.join(DRIVES)}", param="drive")
+            raise InputError(f"{self.drive!r} is not a drive; use one of {', '.join(DRIVES)}", param="--set drive")
         if self.belt_model not in BELT_MODELS:
             raise InputError(f"{self.belt_model!r} is not a belt model; use one of {', '.join(BELT_MODELS)}",
-                             param="belt-model")
-        require_positive("stiffness", self.stiffness, "N/m")
-        require_range("damping", self.damping, "N*s/m", low=0.0)
-        require_range("speed_gain", self.speed_gain, "N*m*s/rad", low=0.0)
+                             param="--set belt_model")
+        require_positive("--set stiffness", self.stiffness, "N/m")
+        require_range("--set damping", self.damping, "N*s/m", low=0.0)
+        require_range("--set speed_gain", self.speed_gain, "N*m*s/rad", low=0.0)
 
 
 def reference_tables(model: AxisModel) -> tuple[tuple, tuple, tuple]:
@@ -157,12 +158,11 @@ def belt_force(model: AxisModel, torque: np.ndarray) -> np.ndarray:
     return np.asarray(torque) / model.lever
 
 
-def first_frequency(net: Network) -> float:
-    """Lowest natural frequency [Hz] of a network (its prescribed nodes held)."""
+def first_frequency(net: Network) -> float | None:
+    """Lowest natural frequency [Hz] of a network (its prescribed nodes held); None when
+    every mode is overdamped."""
     modes = net.modes()
-    if not modes:
-        raise InputError("the model has no oscillating mode (overdamped belt?)", param="belt-model")
-    return modes[0][0]
+    return modes[0][0] if modes else None
 
 
 def two_mass_frequency(rotating: float, lever: float, mass: float, stiffness: float) -> float:

@@ -71,10 +71,12 @@ def placement_factor(offset: float, width: float, length: float) -> float:
     """
     require_positive("roller_length", length, "m")
     require_range("element_width", width, "m", 0.0, length, low_open=True)
-    if width == length:
-        return 1.0
-    require_range("element_offset", offset, "m", 0.0, length - width)
-    return 2.0 * offset / (length - width)
+    free = length - width
+    slack = 1e-9 * length                      # 1.2 - 0.8 is 0.3999... in binary
+    require_range("element_offset", offset, "m", 0.0, free + slack)
+    if free <= slack:
+        return 1.0                             # as wide as the roller: centred by force
+    return min(2.0, 2.0 * offset / free)
 
 
 def load_split(factor: float, width: float, length: float) -> tuple[float, float]:

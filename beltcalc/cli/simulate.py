@@ -496,7 +496,7 @@ def _roller_params() -> list[SceneParam]:
     texts = {"routing": None}
     plain = ("rollers", "drive_teeth", "roller_teeth", "idler_teeth", "pole_pairs", "breakdown_slip",
              "settle_tolerance")
-    units = {**rt.POSITIVE, **rt.NONNEGATIVE, **{k: "" for k in plain}, **texts}
+    units = {**rt.POSITIVE, **rt.NONNEGATIVE, **rt.ANY_SIGN, **{k: "" for k in plain}, **texts}
     return [SceneParam(k, u, k.replace("_", " ")) for k, u in units.items()] + TIMING
 
 

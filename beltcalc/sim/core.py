@@ -35,7 +35,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import odeint, solve_ivp  # the simulation commands import this module only
 from scipy.linalg import expm
-from scipy.optimize import brentq
 
 from beltcalc.errors import InputError, SimulationError, require_positive
 from beltcalc.sim.network import Network
@@ -181,8 +180,12 @@ def _hermite_signs(G0, G1, D0, D1, h):
     return np.sum(np.diff(np.sign(seq), axis=0) != 0, axis=0)
 
 
+LEVELS = 12   # halvings of a step before a switch is placed on the cubic through its ends
+
+
 class _Piece:
-    """The augmented system of one strand mode on one time piece, and its switching rows."""
+    """The augmented system of one strand mode on one time piece, its switching rows, and the
+    one-step matrices P_k = expm(F h / 2^k) of its step h (built once, when first needed)."""
 
     def __init__(self, network: Network, taut, t_mid: float, dt: float):
         self.F = augmented_matrix(network, taut, t_mid)
@@ -191,16 +194,19 @@ class _Piece:
         self.H = np.array([e.row for e in events]).reshape(len(events), self.F.shape[0])
         self.HF = self.H @ self.F
         self.dirs = np.array([e.direction for e in events])
-        lam = np.linalg.eigvals(self.F[:network.size, :network.size])
-        fastest = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
+        fastest = 0.0
+        if events:
+            lam = np.linalg.eigvals(self.F[:network.size, :network.size])
+            fastest = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
         self.sub = max(1, int(math.ceil(dt * fastest)))   # steps per output step: <= 1 rad each
-        self._steps: dict[float, np.ndarray] = {}
+        self.h = dt / self.sub
+        self._P: dict[int, np.ndarray] = {}
 
-    def step(self, h: float) -> np.ndarray:
-        S = self._steps.get(h)
-        if S is None:
-            S = self._steps[h] = expm(self.F * h)
-        return S
+    def P(self, k: int) -> np.ndarray:
+        M = self._P.get(k)
+        if M is None:
+            M = self._P[k] = expm(self.F * (self.h / 2 ** k))
+        return M
 
     def _start(self, G0, tol, skip):
         """Put the switching functions that just fired (``skip``) past their surface: a
@@ -210,67 +216,106 @@ class _Piece:
                 G0[e] = self.dirs[e] * 2 * tol[e]
         return G0
 
-    def scan(self, Z: np.ndarray, h: float, skip=()):
-        """Index i of the first step Z[i] -> Z[i+1] in which a switch may happen, or None."""
+    def _flags(self, G0, G1, D0, D1, L, tol):
+        """Per switching function over a step of length L: a crossing in its direction
+        (from the surface too), and a possible hidden double crossing (cubic Hermite test)."""
+        up = self.dirs > 0
+        crossed = np.where(up, (G0 < -tol) & (G1 >= -tol) | (np.abs(G0) <= tol) & (G1 > tol),
+                           (G0 > tol) & (G1 <= tol) | (np.abs(G0) <= tol) & (G1 < -tol))
+        # the cubic departs from the chord by at most 4/27 (|L D0 - dG| + |L D1 - dG|): only
+        # steps that close to zero need the test
+        dG = G1 - G0
+        reach = 4 / 27 * (np.abs(L * D0 - dG) + np.abs(L * D1 - dG))
+        near = (np.minimum(np.abs(G0), np.abs(G1)) <= reach) & ((np.abs(G0) > tol) | (np.abs(G1) > tol)) & ~crossed
+        hidden = np.zeros_like(crossed)
+        if np.any(near):
+            idx = np.nonzero(near)
+            hidden[idx] = _hermite_signs(G0[idx], G1[idx], D0[idx], D1[idx], L) > 0
+        return crossed, hidden
+
+    def scan(self, Z: np.ndarray, skip=()):
+        """Index i of the first step Z[i] -> Z[i+1] (each of length h) in which a switch may
+        happen, or None."""
         if not self.events:
             return None
         G = Z @ self.H.T
         D = Z @ self.HF.T
         tol = _tol(np.max(np.abs(G), axis=0))
-        G0, G1 = G[:-1].copy(), G[1:]
+        G0 = G[:-1].copy()
         G0[0] = self._start(G0[0], tol, skip)
-        crossed = np.where(self.dirs > 0, (G0 < -tol) & (G1 >= -tol) | (np.abs(G0) <= tol) & (G1 > tol),
-                           (G0 > tol) & (G1 <= tol) | (np.abs(G0) <= tol) & (G1 < -tol))
-        # the cubic Hermite interpolant departs from the chord by at most
-        # 4/27 (|h D0 - dG| + |h D1 - dG|): only steps that close to zero need the test
-        dG = G1 - G0
-        reach = 4 / 27 * (np.abs(h * D[:-1] - dG) + np.abs(h * D[1:] - dG))
-        near = (np.minimum(np.abs(G0), np.abs(G1)) <= reach) & ((np.abs(G0) > tol) | (np.abs(G1) > tol))
-        rows, cols = np.nonzero(near & ~crossed)
-        hidden = np.zeros_like(crossed)
-        if rows.size:
-            hidden[rows, cols] = _hermite_signs(G0[rows, cols], G1[rows, cols], D[:-1][rows, cols],
-                                                D[1:][rows, cols], h) > 0
+        crossed, hidden = self._flags(G0, G[1:], D[:-1], D[1:], self.h, tol)
         hit = np.nonzero(np.any(crossed | hidden, axis=1))[0]
         return int(hit[0]) if hit.size else None
 
-    def locate(self, z: np.ndarray, h: float, skip=(), depth: int = 0):
-        """The earliest switch in (0, h] from z: (tau, event index) or None."""
-        zb = expm(self.F * h) @ z
+    def search(self, z: np.ndarray, k: int, skip=()):
+        """The earliest switch in the step of length h / 2^k from z: (tau, event, z(tau)) or None."""
+        L = self.h / 2 ** k
+        zb = self.P(k) @ z
+        found = self._check(z, zb, L, skip)
+        if found is None or k >= LEVELS:
+            return found if found is None else self._root(z, L, *found)
+        left = self.search(z, k + 1, skip)
+        if left is not None:
+            return left
+        right = self.search(self.P(k + 1) @ z, k + 1)
+        return None if right is None else (L / 2 + right[0], right[1], right[2])
+
+    def search_span(self, z: np.ndarray, L: float, skip=()):
+        """The same over a short remainder L < h / 2^LEVELS (one expm); also returns z(L)."""
+        zb = expm(self.F * L) @ z
+        found = self._check(z, zb, L, skip)
+        return (None if found is None else self._root(z, L, *found)), zb
+
+    def _check(self, z, zb, L, skip):
+        if not self.events:
+            return None
         G0, G1 = self.H @ z, self.H @ zb
         D0, D1 = self.HF @ z, self.HF @ zb
-        tol = _tol(np.maximum(np.abs(G0), np.abs(G1)) + np.abs(D0) * h)
+        tol = _tol(np.maximum(np.abs(G0), np.abs(G1)) + np.abs(D0) * L)
         G0 = self._start(G0, tol, skip)
-        up = self.dirs > 0
-        clean = np.where(up, (G0 < -tol) & (G1 >= -tol), (G0 > tol) & (G1 <= tol))
-        # on the surface at the start and moving through it: a switch at once (another strand
-        # switching at the same instant)
-        leaving = (np.abs(G0) <= tol) & (((np.sign(D0) == self.dirs) & (np.abs(D0) * h > tol))
-                                         | (self.dirs * G1 > tol))
-        hidden = _hermite_signs(G0[None], G1[None], D0[None], D1[None], h)[0] > clean.astype(int)
-        hidden &= (np.abs(G0) > tol) | (np.abs(G1) > tol)
-        if depth < 48 and (np.any(hidden) or np.any(leaving)) and h > 1e-15:
-            left = self.locate(z, h / 2, skip, depth + 1)
-            if left is not None:
-                return left
-            right = self.locate(expm(self.F * (h / 2)) @ z, h / 2, (), depth + 1)
-            return None if right is None else (h / 2 + right[0], right[1])
+        crossed, hidden = self._flags(G0, G1, D0, D1, L, tol)
+        if not np.any(crossed | hidden):
+            return None
+        return G0, G1, D0, D1, tol, crossed | hidden
+
+    def _root(self, z, L, G0, G1, D0, D1, tol, candidates):
+        """The first crossing on the cubic Hermite through the step's ends (exact to the
+        step's fourth power, h / 2^LEVELS long), and the exact state there."""
+        th = np.linspace(0.0, 1.0, 257)[:, None]
+
+        def cubic(x, e):
+            return ((2 * x**3 - 3 * x**2 + 1) * G0[e] + (x**3 - 2 * x**2 + x) * L * D0[e]
+                    + (-2 * x**3 + 3 * x**2) * G1[e] + (x**3 - x**2) * L * D1[e])
+
         best = None
-        for e in np.nonzero(clean | leaving)[0]:
-            row = self.H[e]
-
-            def g(tau, row=row):
-                return row @ (expm(self.F * tau) @ z)
-
-            if G0[e] * G1[e] > 0:       # a value within the tolerance of zero: at that end
-                tau = 0.0 if abs(G0[e]) <= tol[e] else h
-            elif G1[e] == 0.0:
-                tau = h
+        for e in np.nonzero(candidates)[0]:
+            d = self.dirs[e]
+            if abs(G0[e]) <= tol[e] and d * G1[e] > tol[e]:
+                theta = 0.0                       # leaving the surface at once
             else:
-                tau = brentq(g, 0.0, h, xtol=1e-13 * h + 1e-300, rtol=4 * np.finfo(float).eps)
-            if best is None or tau < best[0]:
-                best = (tau, int(e))
-        return best
+                p = cubic(th[:, 0], e)
+                before = d * p <= 0                 # on the side the crossing starts from
+                if not before.any():
+                    continue
+                first = int(np.argmax(before))
+                after = np.nonzero(~before[first:])[0]
+                if after.size == 0:
+                    continue
+                j = first + int(after[0])
+                lo, hi = th[j - 1, 0], th[j, 0]
+                for _ in range(60):               # bisection on the cubic: scalar work
+                    mid = 0.5 * (lo + hi)
+                    if d * cubic(mid, e) > 0:
+                        hi = mid
+                    else:
+                        lo = mid
+                theta = hi
+            if best is None or theta < best[0]:
+                best = (theta, int(e))
+        if best is None:
+            return None
+        tau = best[0] * L
+        return tau, best[1], (z if tau == 0.0 else expm(self.F * tau) @ z)
 
 
 def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
@@ -286,94 +331,90 @@ def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: Solve
     pieces: dict = {}
     skip: tuple = ()          # switching functions that fired at the current point
     eps = 1e-9 * dt
-    while k < N - 1:
-        seg = network.segment(t_cur + eps, starts)
-        t_stop = min(ends[seg], t_end)
-        mid = network.piece_time(seg, starts, t_end)
-        key = (sw.taut, seg)
-        piece = pieces.get(key)
-        if piece is None:
-            piece = pieces[key] = _Piece(network, sw.taut, mid, dt)
-        q = piece.sub
-        if on_grid:
-            # whole output steps that stay inside this time piece
-            last = min(N - 1, k + max(1, 65536 // q), int(np.searchsorted(t, t_stop + eps, side="right")) - 1)
-            count, h = last - k, dt / q
-            target_grid = True
-        else:
-            count, target_grid = 0, False
-        if count >= 1:
-            S = piece.step(h)
-            nsteps = count * q
-        else:
-            target = min(t[k + 1], t_stop)
-            span = target - t_cur
-            if span <= eps:
-                t_cur, on_grid = target, target == t[k + 1]
-                if on_grid:
-                    k += 1
-                    out[:, k] = z[:m]
-                continue
-            nsteps = max(1, int(math.ceil(span / (dt / q))))
-            h = span / nsteps
-            S = expm(piece.F * h)
-            target_grid = target == t[k + 1]
-        Z = _orbit(S, z, nsteps + 1)
-        hit = piece.scan(Z, h, skip)
-        upto = nsteps if hit is None else hit
-        if upto > 0:
-            skip = ()
-        steps += upto
-        if count >= 1:
-            for i in range(q, upto + 1, q):
-                out[:, k + i // q] = Z[i, :m]
-            k += upto // q
-            t_cur = t[k] + (upto % q) * h
-            on_grid = upto % q == 0
-        else:
-            t_cur += upto * h
-            if hit is None:
-                t_cur = target
-                on_grid = target_grid
-                if target_grid:
-                    k += 1
-                    out[:, k] = Z[-1, :m]
-        z = Z[upto]
-        if hit is None:
-            continue
-        found = piece.locate(z, h, skip)
-        if found is None:         # a false alarm: take the step as it is
-            skip = ()
-            z = Z[upto + 1]
-            steps += 1
-            if count >= 1 and (upto + 1) % q == 0:
-                k += 1
-                out[:, k] = z[:m]
-                t_cur, on_grid = t[k], True
-            else:
-                t_cur += h
-                on_grid = False
-                if count == 0 and upto + 1 == nsteps:
-                    t_cur = target
-                    if target_grid:
-                        k += 1
-                        out[:, k] = z[:m]
-                        on_grid = True
-            continue
-        tau, e = found
-        z = expm(piece.F * tau) @ z if tau > 0 else z
+
+    def switch(piece, found):
+        nonlocal z, t_cur, on_grid, skip, k
+        tau, e, z = found
         t_cur += tau
         on_grid = False
-        ev = piece.events[e]
         before = sw.taut
-        sw.switch(ev.strand, t_cur, z, piece.F, h)
+        sw.switch(piece.events[e].strand, t_cur, z, piece.F, piece.h)
         # a function that fired without a switch must not fire again from the same point
         skip = (skip if tau == 0 else ()) + ((e,) if sw.taut == before else ())
-        # a switch exactly on an output time: that sample is the state found
-        if k + 1 < N and abs(t_cur - t[k + 1]) <= eps:
+        if k + 1 < N and abs(t_cur - t[k + 1]) <= eps:     # a switch on an output time
             k += 1
             out[:, k] = z[:m]
             t_cur, on_grid = t[k], True
+
+    while k < N - 1:
+        seg = network.segment(t_cur + eps, starts)
+        t_stop = min(ends[seg], t_end)
+        key = (sw.taut, seg)
+        piece = pieces.get(key)
+        if piece is None:
+            piece = pieces[key] = _Piece(network, sw.taut, network.piece_time(seg, starts, t_end), dt)
+        q, h = piece.sub, piece.h
+        last = min(N - 1, k + max(1, 65536 // q), int(np.searchsorted(t, t_stop + eps, side="right")) - 1)
+        if on_grid and last > k:
+            # whole output steps inside this time piece, q steps each, all at once
+            Z = _orbit(piece.P(0), z, (last - k) * q + 1)
+            hit = piece.scan(Z, skip)
+            upto = (last - k) * q if hit is None else hit
+            for i in range(q, upto + 1, q):
+                out[:, k + i // q] = Z[i, :m]
+            steps += upto
+            k += upto // q
+            t_cur = t[k] + (upto % q) * h
+            on_grid = upto % q == 0
+            z = Z[upto]
+            if upto > 0:
+                skip = ()
+            if hit is None:
+                continue
+            found = piece.search(z, 0, skip)
+            if found is None:                       # a false alarm: take the step as it is
+                z, skip = Z[upto + 1], ()
+                steps += 1
+                t_cur += h
+                if (upto + 1) % q == 0:
+                    k += 1
+                    out[:, k] = z[:m]
+                    t_cur, on_grid = t[k], True
+                continue
+            switch(piece, found)
+            continue
+        # off the grid (after a switch or a break point): to the next output time or break,
+        # in steps h, h/2, h/4, ... and a last remainder
+        target = min(t[k + 1], t_stop)
+        found = None
+        level = 0
+        while found is None:
+            span = target - t_cur
+            if span <= eps:
+                break
+            while level <= LEVELS and h / 2 ** level > span + eps:
+                level += 1
+            if level > LEVELS:
+                found, zb = piece.search_span(z, span, skip)
+                if found is None:
+                    z, t_cur = zb, target
+                break
+            found = piece.search(z, level, skip)
+            if found is None:
+                z = piece.P(level) @ z
+                t_cur += h / 2 ** level
+                skip = ()
+            steps += 1
+        if found is not None:
+            switch(piece, found)
+            continue
+        t_cur = target
+        if target == t[k + 1]:
+            k += 1
+            out[:, k] = z[:m]
+            on_grid = True
+        else:
+            on_grid = False
     return out, steps, 0, sw.info(t_end)
 
 

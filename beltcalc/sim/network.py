@@ -150,7 +150,7 @@ class Load:
     ``mean + amplitude sin(omega t + phase) + table(t)``; with ``in_angle`` True the sine is
     ``amplitude sin(phi_node + phase)`` (locked to the shaft angle: nonlinear). ``table``:
     (t [s], torque [N m]) points, linear in between, a repeated time is a jump, held
-    constant outside. A negative load drives the node."""
+    constant outside. The sine acts from ``start`` [s] on. A negative load drives the node."""
 
     node: str
     mean: float = 0.0
@@ -159,11 +159,12 @@ class Load:
     phase: float = 0.0
     in_angle: bool = False
     table: Points = ()
+    start: float = 0.0
 
     def torque(self, t, phi=0.0):
         """The load torque at time ``t`` (and shaft angle ``phi``) [N m]."""
         arg = phi if self.in_angle else self.omega * np.asarray(t)
-        out = self.mean + self.amplitude * np.sin(arg + self.phase)
+        out = self.mean + self.amplitude * np.sin(arg + self.phase) * (np.asarray(t) >= self.start)
         if self.table:
             out = out + piecewise(self.table, t)
         return out
@@ -335,7 +336,7 @@ class Network:
     @property
     def ramp(self) -> bool:
         """True when a piecewise-linear input needs the generator ``t``."""
-        return (any(ld.table for ld in self.loads) or any(p.accel for p in self.prescribed)
+        return (any(ld.table or (ld.start and ld.amplitude) for ld in self.loads) or any(p.accel for p in self.prescribed)
                 or bool(self.speed_loops) or bool(self.motor and self.motor.sync_table))
 
     @property
@@ -348,6 +349,7 @@ class Network:
         times = set()
         for table in self._tables():
             times.update(p[0] for p in table)
+        times.update(ld.start for ld in self.loads if ld.amplitude)
         return sorted(t for t in times if 0.0 < t < t_end)
 
     def initial_state(self) -> np.ndarray:
@@ -464,6 +466,7 @@ class Network:
         """The active piece of every table (a cache key)."""
         for table in self._tables():
             yield _piece(table, t_mid) if table else (0.0, 0.0)
+        yield tuple(t_mid >= ld.start for ld in self.loads)
 
     def _build(self, taut, t_mid, constrained):
         n, m = self.n, self.size
@@ -506,7 +509,7 @@ class Network:
             if ld.table:
                 a, c = _piece(ld.table, t_mid)
                 torque(k, -a, -c)
-            if ld.in_angle or not ld.amplitude:
+            if ld.in_angle or not ld.amplitude or t_mid < ld.start:
                 continue
             if ld.omega:
                 q = first + 2 * next(i for i, w in enumerate(freqs) if math.isclose(w, ld.omega))
@@ -579,7 +582,9 @@ class Network:
                 return v > 0
             if abs(rate) * h > 1e-9 * abs(row @ ahead - v) and rate != 0:
                 return rate > 0
-            return row @ ahead > v
+            # no rate at all (at rest, a strand without pretension): taut unless the state a
+            # moment later says it slackens; a chain just touching its sprockets is taut
+            return row @ ahead >= v
 
         return positive(delta[k]) and positive(force[k])
 
@@ -629,7 +634,7 @@ class Network:
         for ld in self.loads:
             k = self.index[ld.node]
             if ld.in_angle and not (constrained and k in self.fixed):
-                out[self.n + k] -= ld.amplitude * np.sin(x[k] + ld.phase) / self.nodes[k].J
+                out[self.n + k] -= ld.amplitude * np.sin(x[k] + ld.phase) * (np.asarray(t) >= ld.start) / self.nodes[k].J
         return out
 
     def nonlinear_jacobian(self, x: np.ndarray) -> np.ndarray:

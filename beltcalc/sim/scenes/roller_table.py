@@ -36,9 +36,10 @@ POSITIVE = {
     "gear_input_inertia": "kg*m^2", "gear_middle_inertia": "kg*m^2", "gear_output_inertia": "kg*m^2",
     "output_shaft_stiffness": "N*m/rad", "clutch_stiffness": "N*m/rad", "element_width": "m",
 }
+ANY_SIGN = {"roller_load": "N*m"}   # negative: the transported element overruns the rollers
 NONNEGATIVE = {
     "pretension": "N", "chain_damping_time": "s", "damping_time": "s", "coupling_damping": "N*m*s/rad",
-    "idler_inertia": "kg*m^2", "roller_load": "N*m", "load_amplitude": "N*m", "load_frequency": "rad/s",
+    "idler_inertia": "kg*m^2", "load_amplitude": "N*m", "load_frequency": "rad/s",
     "load_start": "s", "element_offset": "m",
 }
 
@@ -66,7 +67,9 @@ def check(p: dict) -> None:
     require_range(_name("roller_wall"), p["roller_wall"], "m", 0.0, p["roller_diameter"] / 2, low_open=True,
                   high_open=True)
     require_range(_name("element_width"), p["element_width"], "m", 0.0, p["roller_length"], low_open=True)
-    require_range(_name("element_offset"), p["element_offset"], "m", 0.0, p["roller_length"] - p["element_width"])
+    require_range(_name("roller_load"), p["roller_load"], "N*m")     # negative: the element overruns
+    require_range(_name("element_offset"), p["element_offset"], "m", 0.0,
+                  p["roller_length"] - p["element_width"] + 1e-9 * p["roller_length"])
 
 
 def synchronous_speed(p: dict) -> float:
@@ -190,7 +193,7 @@ def build(p: dict) -> Network:
             mean = share * p["roller_load"]
             table = ((t0, 0.0), (t0, mean)) if t0 > 0 else ()
             loads.append(Load(f"end{k}{end}", 0.0 if table else mean, share * p["load_amplitude"],
-                              p["load_frequency"], table=table))
+                              p["load_frequency"], table=table, start=t0))
     w0 = synchronous_speed(p)
     motor = InductionMotor("motor", p["breakdown_factor"] * p["rated_torque"], p["breakdown_slip"], w0,
                            2 * math.pi * p["supply_frequency"], sync_table=((0.0, 0.0), (p["ramp_time"], w0)))

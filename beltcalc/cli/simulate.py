@@ -555,6 +555,11 @@ def _roller_run(values: dict, cfg, flags: dict, errors: bool) -> Outcome:
     notes = []
     if settle is None:
         notes.append("the rollers did not settle before the load lands: raise load_start or t_end")
+    breakdown = values["breakdown_factor"] * values["rated_torque"]
+    if abs(torque.mean) > breakdown:
+        notes.append(f"the motor's mean torque {torque.mean:.3g} N m exceeds its breakdown torque {breakdown:.3g} N m: "
+                     "the linearised characteristic does not hold there, and a real motor would stall; "
+                     "choose a larger motor or gear ratio")
     return Outcome(net, result, sections, notes)
 
 

@@ -314,8 +314,18 @@ class _Piece:
                 best = (theta, int(e))
         if best is None:
             return None
-        tau = best[0] * L
-        return tau, best[1], (z if tau == 0.0 else expm(self.F * tau) @ z)
+        tau, e = best[0] * L, best[1]
+        if tau == 0.0:
+            return tau, e, z
+        # the cubic's root may sit a hair before the exact one: step on until the exact state
+        # is past the surface, so the new mode is judged on a clear side
+        d, row = self.dirs[e], self.H[e]
+        for k in range(9):
+            zt = expm(self.F * tau) @ z
+            if d * (row @ zt) > 0 or tau >= L:
+                break
+            tau = min(L, tau + (L - tau) * 2.0 ** (k - 8))
+        return tau, e, zt
 
 
 def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
@@ -531,7 +541,6 @@ def _ivp(name: str, uses_jac: bool):
 def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
     budget = [0, cfg.max_rhs_calls]
     starts = network.segment_starts(t[-1])
-    ends = starts[1:] + [math.inf]
     delta, force = network.strand_rows()
     gen = _generators(network)
     fixed = network.first_order() if network.smooth else None

@@ -571,14 +571,14 @@ class Network:
 
     def taut_after(self, k: int, z: np.ndarray, dz: np.ndarray, ahead: np.ndarray, h: float) -> bool:
         """Whether strand ``k`` is taut just after the state ``z``: elongation and force both
-        positive. A value within 1e-9 of what its rate ``dz`` changes in the time ``h`` (a
+        positive. A value within 1e-6 of what its rate ``dz`` changes in the time ``h`` (a
         located switch sits that close to its surface) is judged by its rate, and a rate that
         small by the state ``ahead`` (a moment later, e.g. from rest)."""
         delta, force = self.strand_rows()
 
         def positive(row):
             v, rate = row @ z, row @ dz
-            if abs(v) > 1e-9 * abs(rate) * h:
+            if abs(v) > 1e-6 * abs(rate) * h:
                 return v > 0
             if abs(rate) * h > 1e-9 * abs(row @ ahead - v) and rate != 0:
                 return rate > 0

@@ -418,3 +418,21 @@ def test_a_load_after_the_end_of_the_run_does_not_act():
     assert b.summary("T_shaft1", 2.3).mean == pytest.approx(0.0, abs=1.0)
     assert_allclose(speeds(late, a), speeds(never, b), rtol=0, atol=1e-9 * 157.0,
                     err_msg="the load landing at 2.6 s acted inside a run that ends at 2.5 s")
+
+
+def test_twenty_rollers_keep_every_strand_after_the_start_up():
+    # regression: after the inverter ramp (2 s) the chain's strands slacken and take up again
+    # one after another; a switch located a hair before its surface was once judged "no
+    # switch", the strand was then never re-examined, and rollers 5-20 ran backwards with
+    # strand forces of 78 MN. Every roller must turn forward together, and no strand may
+    # carry more than the start-up can give it (the motor's breakdown torque through the
+    # gear, at the driving sprocket, is about 16.8 * 25 / 0.048 = 8.7 kN)
+    p = scene(rollers=20.0, t_end=2.8, samples=2801.0, window=2.5)
+    net = rt.build(p)
+    r = simulate(net, p["t_end"], int(p["samples"]), SolverConfig("exact", estimate_error=False))
+    ends = np.array([r[f"omega_end{k}a"][-1] for k in range(1, 21)])
+    assert_allclose(ends, ends.mean(), rtol=0.02)
+    assert ends.min() > 0.9 * rt.synchronous_speed(p) / rt.total_ratio(p)
+    breakdown = p["breakdown_factor"] * p["rated_torque"] * rt.total_ratio(p) / (
+        sprocket_pitch_diameter(p["chain_pitch"], int(p["drive_teeth"])) / 2)
+    assert max(r[f"F_{s.name}"].max() for s in net.strands) < breakdown

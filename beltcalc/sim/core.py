@@ -320,11 +320,11 @@ class _Piece:
         # the cubic's root may sit a hair before the exact one: step on until the exact state
         # is past the surface, so the new mode is judged on a clear side
         d, row = self.dirs[e], self.H[e]
-        for k in range(9):
+        for k in range(25):
             zt = expm(self.F * tau) @ z
             if d * (row @ zt) > 0 or tau >= L:
                 break
-            tau = min(L, tau + (L - tau) * 2.0 ** (k - 8))
+            tau = min(L, tau + (L - tau) * 2.0 ** (k - 24))
         return tau, e, zt
 
 

@@ -1,7 +1,11 @@
-"""Helpers shared by the CLI tests: a clean success, a failure that is one error line, and an
-edited copy of a scene file."""
+"""Helpers shared by the CLI tests: a clean success, a failure that is one error line, an
+edited copy of a scene file, a CSV time series and the rows of a printed table."""
 
+import csv
+import io
 from pathlib import Path
+
+import numpy as np
 
 
 def ok(result):
@@ -36,3 +40,21 @@ def edited_copy(source: Path, folder: Path, old: str, new: str) -> Path:
     path = folder / f"my_{source.name}"
     path.write_text(text.replace(old, new))
     return path
+
+
+def read_csv(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
+    rows = list(csv.reader(io.StringIO(path.read_text())))
+    header, data = rows[0], np.array(rows[1:], dtype=float)
+    return header, {name: data[:, k] for k, name in enumerate(header)}
+
+
+def table_rows(text: str, after: str) -> list[list[str]]:
+    """The body rows (cells) of the rich table whose title starts with ``after``."""
+    lines = text[text.index(after):].splitlines()
+    start = next(k for k, line in enumerate(lines) if line.startswith("┡"))
+    rows = []
+    for line in lines[start + 1:]:
+        if not line.startswith("│"):
+            break
+        rows.append([cell.strip() for cell in line.strip("│").split("│")])
+    return rows

@@ -14,10 +14,7 @@ test_a_load_after_the_end_of_the_run_does_not_act).
 
 from __future__ import annotations
 
-import csv
-import io
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -25,7 +22,7 @@ from click.testing import CliRunner
 from numpy.testing import assert_allclose
 
 from beltcalc.cli.main import cli
-from clichecks import ok, one_error_line
+from clichecks import ok, one_error_line, read_csv, table_rows
 
 M_M = 3 * 40.0 / 25                                   # 4.8 N m
 W_ROLLERS = 157.0796327 * (1 - 0.2 * M_M / (2 * 2.3 * 7.3)) / 25   # 6.1035588 rad/s
@@ -55,24 +52,6 @@ def js(*args: str) -> dict:
 @pytest.fixture(scope="module")
 def default_json() -> dict:
     return json.loads(ok(CliRunner().invoke(cli, ["simulate", "roller-table", "--json"])).stdout)
-
-
-def read_csv(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
-    rows = list(csv.reader(io.StringIO(path.read_text())))
-    header, data = rows[0], np.array(rows[1:], dtype=float)
-    return header, {name: data[:, k] for k, name in enumerate(header)}
-
-
-def table_rows(text: str, after: str) -> list[list[str]]:
-    """The body rows (cells) of the rich table whose title starts with ``after``."""
-    lines = text[text.index(after):].splitlines()
-    start = next(k for k, line in enumerate(lines) if line.startswith("┡"))
-    rows = []
-    for line in lines[start + 1:]:
-        if not line.startswith("│"):
-            break
-        rows.append([cell.strip() for cell in line.strip("│").split("│")])
-    return rows
 
 
 # --- the default run ---------------------------------------------------------------------------

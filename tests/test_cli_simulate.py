@@ -24,9 +24,7 @@ Hand computation for the default scene (catalogs/scenes/sewing.toml), SI:
 
 from __future__ import annotations
 
-import csv
 import functools
-import io
 import json
 import math
 import sys
@@ -39,7 +37,7 @@ from numpy.testing import assert_allclose
 
 from beltcalc.catalogs import builtin_dir
 from beltcalc.cli.main import cli
-from clichecks import edited_copy, ok, one_error_line
+from clichecks import edited_copy, ok, one_error_line, read_csv, table_rows
 from beltcalc.errors import SimulationError
 from beltcalc.sim import core
 from beltcalc.sim.core import SolverConfig, simulate
@@ -112,24 +110,6 @@ def js(*args: str) -> dict:
 
 def value(out: dict, shaft: str, key: str) -> float:
     return out["shafts"][shaft][key]["value"]
-
-
-def read_csv(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
-    rows = list(csv.reader(io.StringIO(path.read_text())))
-    header, data = rows[0], np.array(rows[1:], dtype=float)
-    return header, {name: data[:, k] for k, name in enumerate(header)}
-
-
-def table_rows(text: str, after: str) -> list[list[str]]:
-    """The body rows (cells) of the rich table whose title starts with ``after``."""
-    lines = text[text.index(after):].splitlines()
-    start = next(k for k, line in enumerate(lines) if line.startswith("┡"))
-    rows = []
-    for line in lines[start + 1:]:
-        if not line.startswith("│"):
-            break
-        rows.append([cell.strip() for cell in line.strip("│").split("│")])
-    return rows
 
 
 # --- default run and its JSON -------------------------------------------------------------------

@@ -744,7 +744,7 @@ def _axis_run(values: dict, cfg, flags: dict, errors: bool) -> Outcome:
 
 
 AXIS_SCENE = Scene(
-    "linear-axis", [], _axis_run, _axis_build, "omega_motor", "speed_gain=0.05:0.5:10",
+    "linear-axis", [], _axis_run, _axis_build, "v_carriage", "speed_gain=0.05:0.5:10",
     ("belt_force_max_N", "belt_pretension_margin_N", "carriage_following_error_max_m",
      "carriage_residual_amplitude_m", "motor_torque_peak_N_m"),
     (("belt force [N]", (("F_belt", "belt"),)),

@@ -376,7 +376,7 @@ def _plot_sweep(spec: Scene, name, header, table, path) -> None:
     plt.close(fig)
 
 
-def common_options(spec_name: str, default_scene: str, timing: bool = True):
+def common_options(default_scene: str, timing: bool = True):
     """The options every simulate command has."""
     def decorate(func):
         opts = [
@@ -480,7 +480,7 @@ SEWING_SCENE = Scene(
 
 
 @simulate.command("sewing")
-@common_options("sewing", "sewing")
+@common_options("sewing")
 @click.option("--angle-loads", is_flag=True, help="Loads follow the shaft angle, sin(phi), not sin(w t): nonlinear.")
 def sewing(angle_loads, **kw):
     """The sewing-machine drive of Mamatova et al. (2016): speed, acceleration and torque of the
@@ -574,7 +574,7 @@ ROLLER_SCENE = Scene(
 
 
 @simulate.command("roller-table")
-@common_options("roller-table", "roller_table")
+@common_options("roller_table")
 def roller_table(**kw):
     """The roller-table drive with chain transmission of Rusek & Popenda: induction motor,
     coupling, two-stage gear, clutch, tension-only chain strands and rollers loaded at both
@@ -755,7 +755,7 @@ AXIS_SCENE = Scene(
 
 
 @simulate.command("linear-axis")
-@common_options("linear-axis", "linear_axis", timing=False)
+@common_options("linear_axis", timing=False)
 @click.option("--belt-model", type=click.Choice(["substitute", "chain"]), default=None,
               help="substitute: eq. 5-9, one spring-damper-mass; chain: eq. 1, z - 1 units [default: the scene's].")
 @click.option("--drive", type=click.Choice(["prescribed", "speed-loop"]), default=None,

@@ -495,7 +495,8 @@ def _ivp(name: str, uses_jac: bool):
             rhs, jac = _system(network, sw.taut, mid, budget)
             events = []
             gen = _generators(network)
-            for j, ev in enumerate(network.events(sw.taut)):
+            switching = network.events(sw.taut)
+            for j, ev in enumerate(switching):
                 def fn(tt, xx, row=ev.row, start=t_cur, again=j in skip, sign=ev.direction):
                     value = row[:m] @ xx + row[m:] @ gen(tt)
                     # a function that just fired without a switch restarts past its surface
@@ -527,7 +528,7 @@ def _ivp(name: str, uses_jac: bool):
                 t_e, j = min(fired)
                 x = sol.y_events[j][0]
                 z = np.concatenate([x, network.generators(t_e)])
-                ev = network.events(sw.taut)[j]
+                ev = switching[j]
                 before = sw.taut
                 sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0])
                 skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())

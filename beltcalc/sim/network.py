@@ -308,6 +308,7 @@ class Network:
             if s.j is not None:
                 self._G[k, self.index[s.j]] -= s.r_j
         self._cache: dict = {}
+        self._rows = None
         self.taut = tuple(True for _ in self.strands)
         self.K, self.D = self.stiffness_damping(self.taut)
 
@@ -542,18 +543,21 @@ class Network:
 
     # --- strands ----------------------------------------------------------------------------
     def strand_rows(self) -> tuple[np.ndarray, np.ndarray]:
-        """Rows over z = [x, g] giving every strand's elongation delta [m] and (taut) force F [N]."""
-        n, m = self.n, self.size
-        p = self.generators(0.0).size
-        delta = np.zeros((len(self.strands), m + p))
-        force = np.zeros_like(delta)
-        for k, s in enumerate(self.strands):
-            delta[k, :n] = self._G[k]
-            delta[k, m] = s.preload / s.stiffness
-            force[k, :n] = s.stiffness * self._G[k]
-            force[k, n:2 * n] = s.damping * self._G[k]
-            force[k, m] = s.preload
-        return delta, force
+        """Rows over z = [x, g] giving every strand's elongation delta [m] and (taut) force F [N]
+        (built once)."""
+        if self._rows is None:
+            n, m = self.n, self.size
+            p = self.generators(0.0).size
+            delta = np.zeros((len(self.strands), m + p))
+            force = np.zeros_like(delta)
+            for k, s in enumerate(self.strands):
+                delta[k, :n] = self._G[k]
+                delta[k, m] = s.preload / s.stiffness
+                force[k, :n] = s.stiffness * self._G[k]
+                force[k, n:2 * n] = s.damping * self._G[k]
+                force[k, m] = s.preload
+            self._rows = (delta, force)
+        return self._rows
 
     def events(self, taut: tuple[bool, ...]) -> list[Event]:
         """The switching surfaces of a mode: a taut strand goes slack when its force or its

@@ -25,7 +25,6 @@ from beltcalc.sim.network import Coupling, Inertia, Load, Network, Prescribed, S
 
 DRIVES = ("prescribed", "speed-loop")
 BELT_MODELS = ("substitute", "chain")
-G0 = 9.80665
 
 
 @dataclass(frozen=True)
@@ -144,7 +143,7 @@ def build(model: AxisModel, substitute_mass: float | None = None, stiffness: flo
     if ax.guide_damping:
         couplings.append(Coupling("guide", "carriage", None, 0.0, ax.guide_damping))
     t_move = move_time(model)
-    resist = ax.resistance + ax.guide_friction * ax.mass * G0
+    resist = ax.resistance_torque / lever       # F_R + mu m g, against the move
     loads = [Load("carriage", table=((0.0, resist), (t_move, resist), (t_move, 0.0)))] if resist else []
     accel, speed, torque = reference_tables(model)
     if model.drive == "prescribed":

@@ -144,8 +144,9 @@ def check_timing(values: dict) -> int:
     return samples
 
 
-def run_command(spec: Scene, scene, assignments, dt, method, rtol, atol, max_events, modes, sweep_text, plot_path,
-                work_precision, as_json, csv_path, flags: dict, t_end=None, samples=None, window=None) -> None:
+def run_command(spec: Scene, scene, assignments, dt, method, rtol, atol, max_events, error_tol, accept_error, modes,
+                sweep_text, plot_path, work_precision, as_json, csv_path, flags: dict, t_end=None, samples=None,
+                window=None) -> None:
     """The body every ``simulate`` command shares."""
     from beltcalc.errors import InputError
     from beltcalc.sim.core import SolverConfig
@@ -176,7 +177,8 @@ def run_command(spec: Scene, scene, assignments, dt, method, rtol, atol, max_eve
             values["samples"] = float(round(values["t_end"] / step) + 1)
         else:
             values["step"] = step
-    cfg = SolverConfig(method=method, rtol=rtol, atol=atol, max_events=max_events)
+    cfg = SolverConfig(method=method, rtol=rtol, atol=atol, max_events=max_events, error_tol=error_tol,
+                       accept_error=accept_error)
 
     if work_precision:
         _work_precision(spec, values, flags, as_json, csv_path)
@@ -186,11 +188,13 @@ def run_command(spec: Scene, scene, assignments, dt, method, rtol, atol, max_eve
         outcomes = []
         with progress(len(points), f"sweep {name}", enabled=not as_json and len(points) > 1) as advance:
             for v in points:
-                outcomes.append(spec.run(dict(values, **{name: v}), cfg, flags, False))
+                outcomes.append(spec.run(dict(values, **{name: v}), cfg, flags, True))
                 advance()
         _render_sweep(spec, name, points, outcomes, as_json, csv_path, plot_path)
         return
     out = spec.run(values, cfg, flags, True)
+    for warning in out.result.warnings:
+        click.echo(f"warning: {warning}", err=True)
     if csv_path is not None:
         write_atomic(csv_path, out.result.csv_text())
     if plot_path is not None:
@@ -200,8 +204,9 @@ def run_command(spec: Scene, scene, assignments, dt, method, rtol, atol, max_eve
         r = out.result
         obj = {"scene": scene_def.title, "method": r.method, "reason": r.reason,
                "wall_time": {"value": r.wall_time, "unit": "s"}, "steps": r.steps, "rhs_calls": r.rhs_calls,
-               "error_estimate": {"value": r.error_estimate, "unit": "rad/s"},
-               "error_reference": r.error_reference}
+               "error_estimate": {"value": r.error_estimate, "unit": r.error_unit},
+               "error_relative": {"value": r.error_relative, "unit": "1"}, "error_signal": r.error_signal,
+               "error_reference": r.error_reference, "warnings": list(r.warnings)}
         if r.extra.get("slack_time"):
             obj["events"] = r.extra["events"]
         for sec in out.sections:
@@ -251,8 +256,8 @@ def _info_rows(result) -> list[Row]:
     if result.extra.get("slack_time"):
         rows.append(Row("events", "strand switches", float(result.extra["events"]), "1"))
     if result.error_estimate is not None:
-        rows.append(Row("error_estimate", "error estimate (speeds)", result.error_estimate, "rad/s", digits=2,
-                        note=f"vs {result.error_reference}"))
+        rows.append(Row("error_estimate", "error estimate (worst speed)", result.error_estimate, result.error_unit,
+                        digits=2, note=f"{result.error_signal}, vs {result.error_reference}"))
     return rows
 
 
@@ -397,6 +402,12 @@ def common_options(default_scene: str, timing: bool = True):
             click.option("--atol", type=click.FloatRange(1e-16, 1, min_open=True), default=1e-10, show_default=True),
             click.option("--max-events", type=click.IntRange(1, 10_000_000), default=20_000, show_default=True,
                          help="Bound on strand switches (a chain chattering near zero tension)."),
+            click.option("--error-tol", type=click.FloatRange(0, 1, min_open=True, max_open=True), default=1e-6,
+                         show_default=True,
+                         help="Largest error estimate accepted, relative to the signal's scale; above it auto "
+                              "refines, then falls back to Radau, else the run fails."),
+            click.option("--accept-error", is_flag=True,
+                         help="Print a result whose error estimate exceeds --error-tol (marked) instead of failing."),
             click.option("--modes", is_flag=True, help="Also print the natural frequencies and damping ratios."),
             click.option("--sweep", "sweep_text", default=None, metavar="NAME=START:STOP:N",
                          help="Sweep a scene parameter."),

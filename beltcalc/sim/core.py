@@ -2,21 +2,17 @@
 
 - ``exact``: networks that are linear between switches, with constant, sinusoidal and
   piecewise-linear inputs. The state is augmented with the inputs' generators
-  (g' = G g), and the augmented system z' = F z is propagated with the one-step matrix
-  expm(F dt) (scipy's scaling and squaring). No eigen-decomposition: on the sewing model
-  its eigenvector matrix has a condition number near 1e13 and loses about 0.1 rad/s.
+  (g' = G g), balanced by a diagonal similarity of powers of two, and the augmented system
+  z' = F z is propagated with its exact one-step matrix (scaling and squaring, or the
+  Taylor series on steps short enough for it to be exact to rounding). No
+  eigen-decomposition: on the sewing model its eigenvector matrix has a condition number
+  near 1e13 and loses about 0.1 rad/s.
 
   * one linear system over the whole run: in blocks, the powers P_r = expm(F dt)^r,
     r < b, applied to every block start at once;
-  * tension-only strands and time break points: piecewise. Between switches the exact
-    solution is propagated (powers by doubling); the switching functions (a strand's
-    elongation and force, both linear in z) are checked on every step, with their rates,
-    for a sign change or a hidden double crossing (a cubic Hermite test, and steps no
-    longer than 1 / the fastest angular frequency of the mode); a switch is then located by
-    bisection and Brent's method on the exact solution, expm(F tau) z. The run restarts
-    on the switching surface in the new mode, which is chosen by the rates, so it does
-    not fire again at once. The number of switches is bounded (``max_events``) and
-    reported.
+  * tension-only strands and time break points: piecewise, mode by mode, with internal
+    steps from the dynamics, every switch located to machine precision on the exact
+    solution and the outputs read off it afterwards (:mod:`beltcalc.sim.switching`).
 - ``radau``, ``bdf``, ``lsoda``, ``rk45``, ``dop853``: scipy's ``solve_ivp`` with the
   analytic Jacobian where it takes one, restarted at every time break point and at every
   strand switch (terminal events with their direction set);
@@ -24,6 +20,12 @@
   strand taut or slack by its own state, no events): fast on smooth networks, and the
   trap the design warns of on switching ones, where the call budget stops it.
 - ``auto``: ``exact`` where the network allows it, else ``radau``; the result says why.
+
+Every run carries an error estimate per speed signal, in the signal's own unit, from a
+second computation that shares neither the rounding nor the partition of the first (see
+:func:`simulate`), plus a conditioning term. An estimate above the tolerance
+(``error_tol`` of the signal's scale) makes ``auto`` refine, then fall back to Radau with
+events; if nothing reaches it the run fails with one line, unless ``accept_error``.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ from scipy.linalg import expm
 from beltcalc.errors import InputError, SimulationError, require_positive
 from beltcalc.sim.network import Network
 from beltcalc.sim.result import SimResult
+from beltcalc.sim.switching import EPS, _orbit, balance, piecewise_exact
 
 
 @dataclass(frozen=True)
@@ -46,7 +49,10 @@ class SolverConfig:
     """method: auto | exact | radau | bdf | lsoda | odeint | rk45 | dop853;
     rtol/atol for the step-size-controlled methods; max_rhs_calls bounds a run;
     max_events bounds the strand switches (a strand chattering near zero tension);
-    estimate_error: run the reference (half-step exact, or exact) and report the difference."""
+    estimate_error: run a second, independent computation and report the difference;
+    error_tol: the largest error estimate accepted, relative to the signal's scale (the
+    largest speed of its unit over the run); accept_error: return a result whose estimate
+    exceeds it (marked) instead of failing."""
 
     method: str = "auto"
     rtol: float = 1e-8
@@ -54,6 +60,8 @@ class SolverConfig:
     max_rhs_calls: int = 5_000_000
     max_events: int = 20_000
     estimate_error: bool = True
+    error_tol: float = 1e-6
+    accept_error: bool = False
 
 
 class _Budget(Exception):
@@ -82,39 +90,94 @@ def augmented_matrix(network: Network, taut=None, t_mid: float = 0.0) -> np.ndar
     return _augment(network, *network.first_order(taut, t_mid))
 
 
-def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
-    """[step^0 start, step^1 start, ..., step^(count-1) start] by doubling: log2(count)
-    batched products instead of count sequential ones. ``start`` is a vector or a matrix."""
-    out = np.empty((count, *start.shape))
-    out[0] = start
+def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1) -> np.ndarray:
+    """z at t_k = k dt, k < samples, as columns. F is balanced first (a diagonal similarity of
+    powers of two: exact). With S = expm(F~ dt) (or expm(F~ dt / parts)^parts, another
+    partition and scaling of A h for the error estimate) and b ~ sqrt(samples): the powers
+    S^r (r < b) and the block starts S^(k b) z0 are built by doubling, then one BLAS product
+    gives every sample: z[k b + r] = S^r (S^(k b) z0)."""
+    m = F.shape[0]
+    scale = balance(F)
+    Ft = F / scale[:, None] * scale[None, :]
+    step = np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
+    b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
+    powers = _orbit_matrix(step, b)
+    jump = step @ powers[b - 1]                      # S^b
+    nblocks = -(-samples // b)
+    starts = _orbit(jump, z0 / scale, nblocks)       # (nblocks, m)
+    # z[k b + r, i] = sum_j starts[k, j] powers[r, i, j]: one product whose result is
+    # already in sample order (no strided copy afterwards)
+    q = powers.transpose(2, 0, 1).reshape(m, b * m)
+    z = (starts @ q).reshape(nblocks * b, m)
+    return z[:samples].T * scale[:, None]
+
+
+def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
+    """[I, step, step^2, ..., step^(count-1)] by doubling."""
+    m = step.shape[0]
+    out = np.empty((count, m, m))
+    out[0] = np.eye(m)
     filled, power = 1, step
     while filled < count:
         n = min(filled, count - filled)
-        out[filled:filled + n] = power @ out[:n] if start.ndim == 2 else out[:n] @ power.T
+        out[filled:filled + n] = power @ out[:n]
         filled += n
         power = power @ power
     return out
 
 
-def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int) -> np.ndarray:
-    """z at t_k = k dt, k < samples, as columns. With S = expm(F dt) and b ~ sqrt(samples):
-    the powers S^r (r < b) and the block starts S^(k b) z0 are built by doubling, then one
-    BLAS product gives every sample: z[k b + r] = S^r (S^(k b) z0)."""
-    m = F.shape[0]
-    step = expm(F * dt)
-    b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
-    powers = _orbit(step, np.eye(m), b)
-    jump = step @ powers[b - 1]                      # S^b
-    nblocks = -(-samples // b)
-    starts = _orbit(jump, z0, nblocks)               # (nblocks, m)
-    # z[k b + r, i] = sum_j starts[k, j] powers[r, i, j]: one product whose result is
-    # already in sample order (no strided copy afterwards)
-    q = powers.transpose(2, 0, 1).reshape(m, b * m)
-    z = (starts @ q).reshape(nblocks * b, m)
-    return z[:samples].T
+def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, scale: float = 1.0):
+    """The exact solution: one linear system over the run, or piecewise between strand switches
+    and time break points (:mod:`beltcalc.sim.switching`). ``scale`` != 1 runs another internal
+    partition (the error estimate's second computation)."""
+    if not network.linear:
+        raise InputError("the exact method needs a network that is linear between switches; this one has "
+                         "loads locked to a shaft angle: use --method radau (or auto)", param="method")
+    if not network.smooth:
+        out, steps, info = piecewise_exact(network, t, x0, cfg.max_events, scale)
+        return out, steps, 0, info
+    dt = t[1] - t[0]
+    F = augmented_matrix(network)
+    z0 = np.concatenate([x0, network.generators(0.0)])
+    z = _propagate(F, z0, dt, t.size, parts=1 if scale == 1.0 else 3)
+    return z[:network.size], t.size - 1, 0, {}
 
 
-# --- switching ------------------------------------------------------------------------------
+# --- scipy's solvers ----------------------------------------------------------------------------
+def _generators(network: Network):
+    """A fast g(t) for one time value (the solvers call it at every step)."""
+    freqs, ramp = network.frequencies(), network.ramp
+
+    def gen(t):
+        out = [1.0, t] if ramp else [1.0]
+        for w in freqs:
+            out += [math.sin(w * t), math.cos(w * t)]
+        return np.array(out)
+    return gen
+
+
+def _system(network: Network, taut, t_mid: float, budget: list[int]):
+    """rhs and Jacobian of one strand mode on one time piece."""
+    A, B = network.first_order(taut, t_mid)
+    nonlinear = not network.linear
+    gen = _generators(network)
+
+    def rhs(t, x):
+        budget[0] += 1
+        if budget[0] > budget[1]:
+            raise _Budget(t)
+        dx = A @ x + B @ gen(t)
+        if nonlinear:
+            dx += network.nonlinear_terms(t, x)
+        return dx
+
+    def jac(t, x):
+        return A + network.nonlinear_jacobian(x) if nonlinear else A
+
+    return rhs, jac
+
+
+# --- scipy's solvers with events (strand mode by its rates, restarted at each switch) -------------
 class _Switches:
     """The strand mode, its switches and the event budget of one run."""
 
@@ -165,314 +228,6 @@ def _ahead(F: np.ndarray, z: np.ndarray, h: float) -> np.ndarray:
     dz = F @ z
     return z + eps * dz + 0.5 * eps ** 2 * (F @ dz)
 
-
-def _tol(scale: float) -> float:
-    return 1e-9 * scale + 1e-300
-
-
-def _hermite_signs(G0, G1, D0, D1, h):
-    """Sign changes of the cubic Hermite interpolant of each switching function over an
-    interval (values G, rates D at both ends), counted on 9 inner points."""
-    th = np.linspace(0.0, 1.0, 11)[1:-1].reshape((-1,) + (1,) * np.ndim(G0))
-    p = ((2 * th**3 - 3 * th**2 + 1) * G0 + (th**3 - 2 * th**2 + th) * h * D0
-         + (-2 * th**3 + 3 * th**2) * G1 + (th**3 - th**2) * h * D1)
-    seq = np.concatenate([G0[None], p, G1[None]])
-    return np.sum(np.diff(np.sign(seq), axis=0) != 0, axis=0)
-
-
-LEVELS = 12   # halvings of a step before a switch is placed on the cubic through its ends
-
-
-class _Piece:
-    """The augmented system of one strand mode on one time piece, its switching rows, and the
-    one-step matrices P_k = expm(F h / 2^k) of its step h (built once, when first needed)."""
-
-    def __init__(self, network: Network, taut, t_mid: float, dt: float):
-        self.F = augmented_matrix(network, taut, t_mid)
-        events = network.events(taut)
-        self.events = events
-        self.H = np.array([e.row for e in events]).reshape(len(events), self.F.shape[0])
-        self.HF = self.H @ self.F
-        self.dirs = np.array([e.direction for e in events])
-        fastest = 0.0
-        if events:
-            lam = np.linalg.eigvals(self.F[:network.size, :network.size])
-            fastest = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
-        self.sub = max(1, int(math.ceil(dt * fastest)))   # steps per output step: <= 1 rad each
-        self.h = dt / self.sub
-        self._P: dict[int, np.ndarray] = {}
-
-    def P(self, k: int) -> np.ndarray:
-        M = self._P.get(k)
-        if M is None:
-            M = self._P[k] = expm(self.F * (self.h / 2 ** k))
-        return M
-
-    def _start(self, G0, tol, skip):
-        """Put the switching functions that just fired (``skip``) past their surface: a
-        restart on the surface must not fire them again."""
-        for e in skip:
-            if abs(G0[e]) <= 2 * tol[e]:
-                G0[e] = self.dirs[e] * 2 * tol[e]
-        return G0
-
-    def _flags(self, G0, G1, D0, D1, L, tol):
-        """Per switching function over a step of length L: a crossing in its direction
-        (from the surface too), and a possible hidden double crossing (cubic Hermite test)."""
-        up = self.dirs > 0
-        crossed = np.where(up, (G0 < -tol) & (G1 >= -tol) | (np.abs(G0) <= tol) & (G1 > tol),
-                           (G0 > tol) & (G1 <= tol) | (np.abs(G0) <= tol) & (G1 < -tol))
-        # the cubic departs from the chord by at most 4/27 (|L D0 - dG| + |L D1 - dG|): only
-        # steps that close to zero need the test
-        dG = G1 - G0
-        reach = 4 / 27 * (np.abs(L * D0 - dG) + np.abs(L * D1 - dG))
-        near = (np.minimum(np.abs(G0), np.abs(G1)) <= reach) & ((np.abs(G0) > tol) | (np.abs(G1) > tol)) & ~crossed
-        hidden = np.zeros_like(crossed)
-        if np.any(near):
-            idx = np.nonzero(near)
-            hidden[idx] = _hermite_signs(G0[idx], G1[idx], D0[idx], D1[idx], L) > 0
-        return crossed, hidden
-
-    def scan(self, Z: np.ndarray, skip=()):
-        """Index i of the first step Z[i] -> Z[i+1] (each of length h) in which a switch may
-        happen, or None."""
-        if not self.events:
-            return None
-        G = Z @ self.H.T
-        D = Z @ self.HF.T
-        tol = _tol(np.max(np.abs(G), axis=0))
-        G0 = G[:-1].copy()
-        G0[0] = self._start(G0[0], tol, skip)
-        crossed, hidden = self._flags(G0, G[1:], D[:-1], D[1:], self.h, tol)
-        hit = np.nonzero(np.any(crossed | hidden, axis=1))[0]
-        return int(hit[0]) if hit.size else None
-
-    def search(self, z: np.ndarray, k: int, skip=()):
-        """The earliest switch in the step of length h / 2^k from z: (tau, event, z(tau)) or None."""
-        L = self.h / 2 ** k
-        zb = self.P(k) @ z
-        found = self._check(z, zb, L, skip)
-        if found is None or k >= LEVELS:
-            return found if found is None else self._root(z, L, *found)
-        left = self.search(z, k + 1, skip)
-        if left is not None:
-            return left
-        right = self.search(self.P(k + 1) @ z, k + 1)
-        return None if right is None else (L / 2 + right[0], right[1], right[2])
-
-    def search_span(self, z: np.ndarray, L: float, skip=()):
-        """The same over a short remainder L < h / 2^LEVELS (one expm); also returns z(L)."""
-        zb = expm(self.F * L) @ z
-        found = self._check(z, zb, L, skip)
-        return (None if found is None else self._root(z, L, *found)), zb
-
-    def _check(self, z, zb, L, skip):
-        if not self.events:
-            return None
-        G0, G1 = self.H @ z, self.H @ zb
-        D0, D1 = self.HF @ z, self.HF @ zb
-        tol = _tol(np.maximum(np.abs(G0), np.abs(G1)) + np.abs(D0) * L)
-        G0 = self._start(G0, tol, skip)
-        crossed, hidden = self._flags(G0, G1, D0, D1, L, tol)
-        if not np.any(crossed | hidden):
-            return None
-        return G0, G1, D0, D1, tol, crossed | hidden
-
-    def _root(self, z, L, G0, G1, D0, D1, tol, candidates):
-        """The first crossing on the cubic Hermite through the step's ends (exact to the
-        step's fourth power, h / 2^LEVELS long), and the exact state there."""
-        th = np.linspace(0.0, 1.0, 257)[:, None]
-
-        def cubic(x, e):
-            return ((2 * x**3 - 3 * x**2 + 1) * G0[e] + (x**3 - 2 * x**2 + x) * L * D0[e]
-                    + (-2 * x**3 + 3 * x**2) * G1[e] + (x**3 - x**2) * L * D1[e])
-
-        best = None
-        for e in np.nonzero(candidates)[0]:
-            d = self.dirs[e]
-            if abs(G0[e]) <= tol[e] and d * G1[e] > tol[e]:
-                theta = 0.0                       # leaving the surface at once
-            else:
-                p = cubic(th[:, 0], e)
-                before = d * p <= 0                 # on the side the crossing starts from
-                if not before.any():
-                    continue
-                first = int(np.argmax(before))
-                after = np.nonzero(~before[first:])[0]
-                if after.size == 0:
-                    continue
-                j = first + int(after[0])
-                lo, hi = th[j - 1, 0], th[j, 0]
-                for _ in range(60):               # bisection on the cubic: scalar work
-                    mid = 0.5 * (lo + hi)
-                    if d * cubic(mid, e) > 0:
-                        hi = mid
-                    else:
-                        lo = mid
-                theta = hi
-            if best is None or theta < best[0]:
-                best = (theta, int(e))
-        if best is None:
-            return None
-        tau, e = best[0] * L, best[1]
-        if tau == 0.0:
-            return tau, e, z
-        # the cubic's root may sit a hair before the exact one: step on until the exact state
-        # is past the surface, so the new mode is judged on a clear side
-        d, row = self.dirs[e], self.H[e]
-        for k in range(25):
-            zt = expm(self.F * tau) @ z
-            if d * (row @ zt) > 0 or tau >= L:
-                break
-            tau = min(L, tau + (L - tau) * 2.0 ** (k - 24))
-        return tau, e, zt
-
-
-def _piecewise_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
-    """Exact propagation between time break points and strand switches (see the module note)."""
-    N, dt, t_end, m = t.size, t[1] - t[0], t[-1], network.size
-    starts = network.segment_starts(t_end)
-    ends = starts[1:] + [math.inf]
-    z = np.concatenate([x0, network.generators(0.0)])
-    sw = _Switches(network, z, cfg, "exact", dt)
-    out = np.empty((m, N))
-    out[:, 0] = x0
-    k, t_cur, on_grid, steps = 0, 0.0, True, 0
-    pieces: dict = {}
-    skip: tuple = ()          # switching functions that fired at the current point
-    eps = 1e-9 * dt
-
-    def switch(piece, found):
-        nonlocal z, t_cur, on_grid, skip, k
-        tau, e, z = found
-        t_cur += tau
-        on_grid = False
-        before = sw.taut
-        sw.switch(piece.events[e].strand, t_cur, z, piece.F, piece.h)
-        # a function that fired without a switch must not fire again from the same point
-        skip = (skip if tau == 0 else ()) + ((e,) if sw.taut == before else ())
-        if k + 1 < N and abs(t_cur - t[k + 1]) <= eps:     # a switch on an output time
-            k += 1
-            out[:, k] = z[:m]
-            t_cur, on_grid = t[k], True
-
-    while k < N - 1:
-        seg = network.segment(t_cur + eps, starts)
-        t_stop = min(ends[seg], t_end)
-        key = (sw.taut, seg)
-        piece = pieces.get(key)
-        if piece is None:
-            piece = pieces[key] = _Piece(network, sw.taut, network.piece_time(seg, starts, t_end), dt)
-        q, h = piece.sub, piece.h
-        last = min(N - 1, k + max(1, 65536 // q), int(np.searchsorted(t, t_stop + eps, side="right")) - 1)
-        if on_grid and last > k:
-            # whole output steps inside this time piece, q steps each, all at once
-            Z = _orbit(piece.P(0), z, (last - k) * q + 1)
-            hit = piece.scan(Z, skip)
-            upto = (last - k) * q if hit is None else hit
-            for i in range(q, upto + 1, q):
-                out[:, k + i // q] = Z[i, :m]
-            steps += upto
-            k += upto // q
-            t_cur = t[k] + (upto % q) * h
-            on_grid = upto % q == 0
-            z = Z[upto]
-            if upto > 0:
-                skip = ()
-            if hit is None:
-                continue
-            found = piece.search(z, 0, skip)
-            if found is None:                       # a false alarm: take the step as it is
-                z, skip = Z[upto + 1], ()
-                steps += 1
-                t_cur += h
-                if (upto + 1) % q == 0:
-                    k += 1
-                    out[:, k] = z[:m]
-                    t_cur, on_grid = t[k], True
-                continue
-            switch(piece, found)
-            continue
-        # off the grid (after a switch or a break point): to the next output time or break,
-        # in steps h, h/2, h/4, ... and a last remainder
-        target = min(t[k + 1], t_stop)
-        found = None
-        level = 0
-        while found is None:
-            span = target - t_cur
-            if span <= eps:
-                break
-            while level <= LEVELS and h / 2 ** level > span + eps:
-                level += 1
-            if level > LEVELS:
-                found, zb = piece.search_span(z, span, skip)
-                if found is None:
-                    z, t_cur = zb, target
-                break
-            found = piece.search(z, level, skip)
-            if found is None:
-                z = piece.P(level) @ z
-                t_cur += h / 2 ** level
-                skip = ()
-            steps += 1
-        if found is not None:
-            switch(piece, found)
-            continue
-        t_cur = target
-        if target == t[k + 1]:
-            k += 1
-            out[:, k] = z[:m]
-            on_grid = True
-        else:
-            on_grid = False
-    return out, steps, 0, sw.info(t_end)
-
-
-def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
-    if not network.linear:
-        raise InputError("the exact method needs a network that is linear between switches; this one has "
-                         "loads locked to a shaft angle: use --method radau (or auto)", param="method")
-    if not network.smooth:
-        return _piecewise_exact(network, t, x0, cfg)
-    dt = t[1] - t[0]
-    F = augmented_matrix(network)
-    z0 = np.concatenate([x0, network.generators(0.0)])
-    z = _propagate(F, z0, dt, t.size)
-    return z[:network.size], t.size - 1, 0, {}
-
-
-# --- scipy's solvers ----------------------------------------------------------------------------
-def _generators(network: Network):
-    """A fast g(t) for one time value (the solvers call it at every step)."""
-    freqs, ramp = network.frequencies(), network.ramp
-
-    def gen(t):
-        out = [1.0, t] if ramp else [1.0]
-        for w in freqs:
-            out += [math.sin(w * t), math.cos(w * t)]
-        return np.array(out)
-    return gen
-
-
-def _system(network: Network, taut, t_mid: float, budget: list[int]):
-    """rhs and Jacobian of one strand mode on one time piece."""
-    A, B = network.first_order(taut, t_mid)
-    nonlinear = not network.linear
-    gen = _generators(network)
-
-    def rhs(t, x):
-        budget[0] += 1
-        if budget[0] > budget[1]:
-            raise _Budget(t)
-        dx = A @ x + B @ gen(t)
-        if nonlinear:
-            dx += network.nonlinear_terms(t, x)
-        return dx
-
-    def jac(t, x):
-        return A + network.nonlinear_jacobian(x) if nonlinear else A
-
-    return rhs, jac
 
 
 def _ivp(name: str, uses_jac: bool):
@@ -627,40 +382,122 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
              x0: np.ndarray | None = None) -> SimResult:
     """Integrate ``network`` from ``x0`` (rest by default) over [0, t_end] at ``samples`` points.
 
-    The only function that integrates; every scene calls it.
+    The only function that integrates; every scene calls it. With ``cfg.estimate_error`` the
+    result carries an error estimate per speed signal (see :func:`estimate_error`); where it
+    exceeds ``cfg.error_tol`` of the signal's scale, ``auto`` refines the exact method's
+    internal step, then falls back to Radau with events at a tolerance 100 times tighter
+    than asked; if the estimate still exceeds it, :class:`SimulationError` (one line: what was
+    reached, on which signal, what to try) unless ``cfg.accept_error``.
     """
     require_positive("t_end", t_end, "s")
     if samples < 2:
         raise InputError(f"{samples} samples; at least 2 are needed", param="samples")
+    if not 0 < cfg.error_tol < 1:
+        raise InputError(f"error tolerance {cfg.error_tol:g} is not allowed; it must be in (0, 1)", param="error_tol")
     method, reason = choose_method(network, cfg.method)
     x0 = _initial(network, x0)
     t = np.linspace(0.0, t_end, samples)
-    start = time.perf_counter()
-    x, steps, calls, extra = METHODS[method](network, t, x0, cfg)
-    wall = time.perf_counter() - start
-    if not np.all(np.isfinite(x)):
-        raise SimulationError(f"method {method} gave non-finite values; try another --method")
-    result = _outputs(network, t, x, method, reason, wall, steps, calls, extra)
-    if cfg.estimate_error:
-        _estimate_error(result, network, t_end, samples, cfg, x0, method)
+    result = _run(network, t, x0, cfg, method, reason)
+    if not cfg.estimate_error:
+        return result
+    estimate_error(result, network, x0, cfg)
+    tried = [f"{method} ({result.error_relative:.1g})"]
+    if result.error_relative > cfg.error_tol and cfg.method == "auto" and method == "exact":
+        # refine: a quarter of the internal step, checked against the first run
+        fine = _run(network, t, x0, cfg, "exact", reason + "; refined to a quarter of the internal step",
+                    scale=0.25)
+        estimate_error(fine, network, x0, cfg, reference=(result.states, "exact at 4x the internal step"))
+        tried.append(f"exact refined ({fine.error_relative:.1g})")
+        if fine.error_relative <= cfg.error_tol:
+            return fine
+        tight = SolverConfig("radau", min(cfg.rtol, cfg.error_tol / 100), min(cfg.atol, cfg.error_tol * 1e-4),
+                             cfg.max_rhs_calls, cfg.max_events, True, cfg.error_tol, cfg.accept_error)
+        try:
+            radau = _run(network, t, x0, tight, "radau",
+                         "auto: the exact method's estimate exceeded the tolerance; Radau with events")
+        except SimulationError:
+            radau = None
+        if radau is not None:
+            estimate_error(radau, network, x0, tight, reference=(fine.states, "the refined exact run"))
+            tried.append(f"radau ({radau.error_relative:.1g})")
+            if radau.error_relative <= cfg.error_tol:
+                return radau
+        result = fine
+    if result.error_relative > cfg.error_tol:
+        at = result.t[int(np.argmax(np.abs(result.states[result.error_row] - result.error_reference_states)))] \
+            if result.error_reference_states is not None else result.t[-1]
+        message = (f"error estimate {result.error_estimate:.3g} {result.error_unit} on {result.error_signal} "
+                   f"(largest near t = {at:.6g} s) is {result.error_relative:.2g} of its scale "
+                   f"{result.error_scale:.4g} {result.error_unit}, above the tolerance {cfg.error_tol:g}; "
+                   f"tried {', '.join(tried)}")
+        if not cfg.accept_error:
+            raise SimulationError(message + "; try another --method, a looser --error-tol, or --accept-error "
+                                  "to print it anyway", param="error_tol")
+        result.extra["error_accepted"] = True
+        result.warnings.append("accepted with a large error: " + message)
     return result
 
 
-def _estimate_error(result: SimResult, network: Network, t_end, samples, cfg, x0, method) -> None:
-    n = network.n
-    speeds = result.states[n:2 * n]
+def _run(network, t, x0, cfg, method, reason, scale: float = 1.0) -> SimResult:
+    start = time.perf_counter()
     if method == "exact":
-        fine = METHODS["exact"](network, np.linspace(0.0, t_end, 2 * samples - 1), x0, cfg)[0]
-        ref, label = fine[n:2 * n, ::2], "exact run at half the step"
+        x, steps, calls, extra = _exact(network, t, x0, cfg, scale)
+    else:
+        x, steps, calls, extra = METHODS[method](network, t, x0, cfg)
+    wall = time.perf_counter() - start
+    if not np.all(np.isfinite(x)):
+        raise SimulationError(f"method {method} gave non-finite values; try another --method")
+    return _outputs(network, t, x, method, reason, wall, steps, calls, extra)
+
+
+def conditioning(network: Network, t_end: float) -> float:
+    """The relative rounding floor of an exact run: machine epsilon times the stiffness ratio,
+    taken as ||F~||_1 t_end (the balanced augmented matrix's norm over the run: how many of
+    its fastest time constants the run spans)."""
+    F = augmented_matrix(network)
+    s = balance(F)
+    return EPS * float(np.abs(F / s[:, None] * s[None, :]).sum(axis=0).max()) * t_end
+
+
+def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: SolverConfig,
+                   reference: tuple[np.ndarray, str] | None = None) -> None:
+    """Fill the result's error estimate: per speed signal, the largest difference to a second
+    computation that shares neither rounding nor partition (exact: another internal step and
+    another scaling of A h; scipy's methods: the exact solution, or Radau at 1/100 of the
+    tolerances where no exact solution exists), plus the conditioning floor
+    :func:`conditioning` times the signal's scale."""
+    n, method, t = network.n, result.method, result.t
+    if reference is not None:
+        ref, label = reference
+    elif method == "exact":
+        ref = _exact(network, t, x0, cfg, scale=0.7)[0]
+        label = "exact with another internal step and scaling of A h"
     elif network.linear:
-        ref = METHODS["exact"](network, result.t, x0, cfg)[0][n:2 * n]
+        ref = _exact(network, t, x0, cfg)[0]
         label = "exact solution"
     else:
         tight = SolverConfig("radau", cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, cfg.max_events, False)
-        ref = METHODS["radau"](network, result.t, x0, tight)[0][n:2 * n]
+        ref = METHODS["radau"](network, t, x0, tight)[0]
         label = "radau at 1/100 of the tolerances"
-    result.error_estimate = float(np.max(np.abs(speeds - ref)))
+    names = network.state_names()
+    floor = conditioning(network, float(t[-1])) if network.linear else 0.0
+    scales: dict[str, float] = {}
+    for k in range(n, 2 * n):
+        name, unit = names[k]
+        scales[unit] = max(scales.get(unit, 0.0), float(np.max(np.abs(result.states[k]))))
+    errors, worst = {}, None
+    for k in range(n, 2 * n):
+        name, unit = names[k]
+        scale = scales[unit] if scales[unit] > 0 else 1.0
+        errors[name] = float(np.max(np.abs(result.states[k] - ref[k]))) + floor * scale
+        rel = errors[name] / scale
+        if worst is None or rel > worst[0]:
+            worst = (rel, k, name, unit, scale)
+    result.errors = errors
+    result.error_relative, result.error_row, result.error_signal, result.error_unit, result.error_scale = worst
+    result.error_estimate = errors[result.error_signal]
     result.error_reference = label
+    result.error_reference_states = ref[worst[1]]
 
 
 def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) -> SimResult:

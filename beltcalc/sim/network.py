@@ -448,13 +448,15 @@ class Network:
                     constrained: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """(A, B) of x' = A x + B g on the time piece that holds ``t_mid``, with the strands
         that are ``taut`` (default: all). ``constrained`` False leaves the prescribed nodes
-        free (for their drive torque). Cached per strand mode and time piece."""
+        free (for their drive torque). The last 64 (strand mode, time piece) pairs are cached."""
         taut = self.taut if taut is None else tuple(taut)
         pieces = tuple(self._pieces(t_mid))
         key = (taut, pieces, constrained)
         hit = self._cache.get(key)
         if hit is None:
             hit = self._cache[key] = self._build(taut, t_mid, constrained)
+            if len(self._cache) > 64:          # strand patterns are many on long chains: keep the recent
+                self._cache.pop(next(iter(self._cache)))
         return hit
 
     def _tables(self) -> list[Points]:

@@ -24,9 +24,11 @@ class SimResult:
     """Signals (name -> array over ``t``) with their SI units, and the solve information.
 
     ``states`` is the state matrix (one column per sample, rows as the network's
-    ``state_names``). ``error_estimate`` is the largest absolute difference of the speeds
-    [rad/s] against a reference (a half-step exact run, or the exact solution), or None
-    where none exists.
+    ``state_names``). ``errors`` holds an error estimate per speed signal, in that signal's
+    unit (:func:`beltcalc.sim.core.estimate_error`); ``error_estimate`` is the one of
+    ``error_signal`` (unit ``error_unit``), the largest relative to its scale
+    (``error_relative`` of ``error_scale``: the largest speed of that unit over the run).
+    None where no estimate was made. ``warnings`` are for the user (stderr, JSON).
     """
 
     t: np.ndarray
@@ -41,6 +43,14 @@ class SimResult:
     error_estimate: float | None = None
     error_reference: str = ""
     extra: dict = field(default_factory=dict)
+    errors: dict = field(default_factory=dict)
+    error_signal: str = ""
+    error_unit: str = ""
+    error_relative: float = 0.0
+    error_scale: float = 0.0
+    error_row: int = 0
+    error_reference_states: np.ndarray | None = None
+    warnings: list = field(default_factory=list)
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.signals[name]

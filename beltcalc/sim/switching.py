@@ -1,0 +1,518 @@
+"""Tension-only strands on the exact solution: mode changes located to machine precision,
+grazing and take-up done right, the internal step chosen from the dynamics alone.
+
+Between mode changes the network is linear with generator inputs, ``z' = F z`` with
+``z = [x, g]`` (:func:`beltcalc.sim.core.augmented_matrix`). A *mode* is one strand pattern
+(which strands are taut) on one time piece of the inputs. This module propagates the exact
+solution mode by mode:
+
+* **Scaling.** ``F`` is balanced once per network by a diagonal similarity of powers of two
+  (exact in floating point), ``F~ = S^-1 F S``: positions in rad and speeds in rad/s differ
+  by the fastest angular frequency, and without balancing ``||F h||`` is 10^4 times
+  larger than the dynamics need.
+* **Steps from the dynamics.** The bottom step ``L = THETA / ||F~||_1`` makes the Taylor
+  series of the exact solution over one step, ``z(t + s L) = sum_j s^j V_j`` with
+  ``V_j = (F~ L)^j z / j!``, exact to rounding with ``TERMS`` terms (s in [0, 1]). Every
+  switching function ``r . z`` is then a polynomial of degree ``TERMS - 1`` in s on the
+  step; its coefficients come from the rows ``R_j = r (F~ L)^j / j!``, precomputed per
+  mode. The output grid plays no part: samples are read off the exact solution afterwards,
+  from the step that holds them.
+* **Stiff modes** (``||F~||`` far above the fastest oscillation, e.g. a coupling 10^6 times
+  stiffer than the rest): the coarse step is ``h = 2^K L`` (at most one radian of the
+  fastest oscillation), propagated by ``P_0 = expm(F~ h)``, built bottom-up by squaring from
+  the bottom step (so the ladder ``P_k = expm(F~ h / 2^k)`` comes for free). A coarse step is
+  examined by the values and rates of the switching functions at its ends (a cubic Hermite
+  test for a dip through zero inside it); a flagged step is halved down the ladder to the
+  bottom level, where the polynomial is exact. After every restart the first coarse step
+  is entered geometrically (L, L, 2L, 4L ... h/2) so a fast transient cannot hide a
+  crossing.
+* **Location.** The first crossing is the first root of the exact polynomial on the step,
+  found by Brent's method on the polynomial (to 1e-15 of the step); the state there is the
+  Taylor sum at that s. No ``expm`` per evaluation, no dependence on the output step.
+* **Crossings, grazing, take-up.** A crossing counts when the function moves to its firing
+  side by more than the rounding level ``tol`` (an excursion whose peak stays within
+  ``tol`` is a graze: no switch). At a restart every strand that sits on a surface is
+  decided by how its elongation and force leave zero in the taut mode (the first Taylor
+  coefficient beyond rounding): taut if both become positive. Unloading (``F -> 0`` with
+  ``delta > 0``) has the same accelerations in both modes, so it is a transversal or a
+  grazing crossing, never a chatter. Take-up (``delta`` rising through 0) makes the
+  damper's force jump to ``b delta'`` (a Kelvin-Voigt contact). See DESIGN.md section 3.0.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+
+import numpy as np
+from scipy.linalg import expm, matrix_balance
+from scipy.optimize import brentq
+
+from beltcalc.errors import SimulationError
+
+EPS = np.finfo(float).eps
+THETA = 2.0          # ||F~ L||_1 on the bottom step
+TERMS = 24           # THETA^24 / 24! < 2^-53: the Taylor series is exact to rounding
+ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |r_i z_i|
+STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
+MAX_BLOCK = 1024     # steps propagated ahead at once (doubled from 8 while nothing happens)
+CACHE_BYTES = 400e6  # modes kept (least recently used first out)
+
+
+def balance(F: np.ndarray) -> np.ndarray:
+    """Diagonal scaling S (powers of two) with S^-1 F S balanced; exact in floating point."""
+    _, (scale, _) = matrix_balance(F, permute=False, separate=True)
+    return scale
+
+
+def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
+    """[start, step start, step^2 start, ...] (count rows) by doubling: log2(count) batched
+    products instead of count sequential ones."""
+    out = np.empty((count, start.size))
+    out[0] = start
+    filled, power = 1, step
+    while filled < count:
+        n = min(filled, count - filled)
+        out[filled:filled + n] = out[:n] @ power.T
+        filled += n
+        if filled < count:
+            power = power @ power
+    return out
+
+
+def _taylor(Ft: np.ndarray, Z: np.ndarray, L: float) -> np.ndarray:
+    """V[j] = (F~ L)^j Z / j! for j < TERMS; Z is one state (size,) or rows (count, size)."""
+    V = np.empty((TERMS, *Z.shape))
+    V[0] = Z
+    M = Ft.T * L
+    for j in range(1, TERMS):
+        V[j] = (V[j - 1] @ M) / j
+    return V
+
+
+def _horner(V: np.ndarray, s) -> np.ndarray:
+    """sum_j s^j V[j]; s a scalar, or one value per row of V[j]."""
+    s = np.asarray(s, dtype=float)
+    out = V[-1].copy()
+    for j in range(TERMS - 2, -1, -1):
+        out = out * (s[:, None] if s.ndim else s) + V[j]
+    return out
+
+
+class Mode:
+    """One strand pattern on one time piece: the balanced matrix, its steps and switching rows."""
+
+    def __init__(self, network, taut: tuple[bool, ...], t_mid: float, S: np.ndarray, omega: float, scale: float):
+        from beltcalc.sim.core import augmented_matrix
+
+        self.taut = taut
+        F = augmented_matrix(network, taut, t_mid)
+        self.Ft = F / S[:, None] * S[None, :]
+        norm = float(np.abs(self.Ft).sum(axis=0).max())
+        self.L = scale * THETA / max(norm, 1e-300)
+        self.K = 0
+        if omega > 0 and norm > STIFF * omega:
+            self.K = max(0, int(math.floor(math.log2(1.0 / (omega * self.L)))))
+        self.h = self.L * 2 ** self.K
+        self.events = network.events(taut)
+        self.H = np.array([e.row for e in self.events]).reshape(len(self.events), F.shape[0]) * S[None, :]
+        self.absH = np.abs(self.H)
+        self.dirs = np.array([e.direction for e in self.events], dtype=float)
+        self._P: dict[int, np.ndarray] = {}
+        self._R = None
+
+    @property
+    def nbytes(self) -> int:
+        m = self.Ft.shape[0]
+        return 8 * (m * m * (2 + len(self._P)) + TERMS * self.H.size)
+
+    def P(self, k: int) -> np.ndarray:
+        """expm(F~ h / 2^k): the ladder, built bottom-up by squaring from the bottom step."""
+        if k not in self._P:
+            M = expm(self.Ft * self.L)
+            self._P[self.K] = M
+            for level in range(self.K - 1, -1, -1):
+                M = M @ M
+                self._P[level] = M
+        return self._P[k]
+
+    @property
+    def R(self) -> np.ndarray:
+        """R[j] = H (F~ L)^j / j!: the polynomial coefficients of every switching function on
+        a bottom step are R @ z."""
+        if self._R is None:
+            R = np.empty((TERMS, *self.H.shape))
+            R[0] = self.H
+            M = self.Ft * self.L
+            for j in range(1, TERMS):
+                R[j] = (R[j - 1] @ M) / j
+            self._R = R
+        return self._R
+
+    def at(self, z: np.ndarray, tau: np.ndarray | float) -> np.ndarray:
+        """The exact state a time tau in [0, h] after z (rows of z for an array of tau):
+        the ladder for the whole bottom steps of tau, the Taylor sum for the rest."""
+        tau = np.asarray(tau, dtype=float)
+        Z = np.array(z, dtype=float, copy=True)
+        if self.K:
+            q = np.minimum(np.floor(tau / self.L), 2 ** self.K - 1).astype(np.int64)
+            frac = tau / self.L - q
+            for k in range(self.K, 0, -1):            # bit (K - k) of q: a step of 2^(K-k) L
+                bit = (q >> (self.K - k)) & 1
+                if tau.ndim == 0:
+                    if bit:
+                        Z = self.P(k) @ Z
+                elif bit.any():
+                    Z[bit == 1] = Z[bit == 1] @ self.P(k).T
+        else:
+            frac = tau / self.L
+        return _horner(_taylor(self.Ft, Z, self.L), frac)
+
+
+class _Cache:
+    """Modes by (pattern, time piece), least recently used dropped beyond CACHE_BYTES."""
+
+    def __init__(self, network, S, omega, scale):
+        self.network, self.S, self.omega, self.scale = network, S, omega, scale
+        self.modes: OrderedDict = OrderedDict()
+        self.built = 0
+
+    def get(self, taut, seg, t_mid) -> Mode:
+        key = (taut, seg)
+        mode = self.modes.get(key)
+        if mode is None:
+            mode = self.modes[key] = Mode(self.network, taut, t_mid, self.S, self.omega, self.scale)
+            self.built += 1
+            while len(self.modes) > 2 and sum(m.nbytes for m in self.modes.values()) > CACHE_BYTES:
+                self.modes.popitem(last=False)
+        self.modes.move_to_end(key)
+        return mode
+
+
+# --- the polynomial on one bottom step ---------------------------------------------------------
+def _first_fire(c: np.ndarray, d: float, tol: float, from_start: bool, limit: float = 1.0) -> float | None:
+    """The first s in [0, limit] where d * p(s) (p: coefficients ``c``, lowest first) crosses
+    from <= 0 to > 0 and goes on beyond ``tol`` (an excursion that stays within ``tol`` is a
+    graze). ``from_start`` False ignores an excursion already under way at s = 0 (a restart
+    just decided it); True counts one that starts at s = 0 from within ``tol``."""
+    p = np.polynomial.polynomial.Polynomial(d * c)
+    dp, ddp = p.deriv(), p.deriv(2)
+    M2 = float(np.sum(np.abs(ddp.coef)))                 # max |p''| on [0, 1]
+    grid = list(np.linspace(0.0, limit, 33))
+    vals = list(p(np.array(grid)))
+    # refine gaps where the sampled values cannot rule out a hidden dip through zero
+    i, guard = 0, 0
+    while i < len(grid) - 1 and guard < 4000:
+        a, b, va, vb = grid[i], grid[i + 1], vals[i], vals[i + 1]
+        w = b - a
+        bend = M2 * w * w / 8
+        hidden = (va > 0) == (vb > 0) and min(abs(va), abs(vb)) <= bend and bend > tol
+        if hidden or ((va > 0) != (vb > 0) and abs(dp(0.5 * (a + b))) <= M2 * w / 2 and bend > tol):
+            mid = 0.5 * (a + b)
+            grid.insert(i + 1, mid)
+            vals.insert(i + 1, float(p(mid)))
+            guard += 1
+            continue
+        i += 1
+    vals = np.array(vals)
+    grid = np.array(grid)
+    k = 0
+    if abs(vals[0]) <= tol:                  # on the surface at s = 0
+        big = np.nonzero(np.abs(vals) > tol)[0]
+        if big.size == 0:
+            return None                      # stays within rounding of the surface: a graze
+        k0 = int(big[0])
+        if vals[k0] > 0:
+            if from_start:                   # leaves the surface to the firing side: the last root before
+                nonpos = np.nonzero(vals[:k0] <= 0)[0]
+                if nonpos.size == 0:
+                    return 0.0
+                j = int(nonpos[-1]) + 1
+                return float(brentq(p, grid[j - 1], grid[j], xtol=1e-16, rtol=4 * EPS, maxiter=200))
+            back = np.nonzero(vals[k0:] <= 0)[0]     # a restart decided this departure: skip it
+            if back.size == 0:
+                return None
+            k = k0 + int(back[0])
+        else:
+            k = k0
+    elif vals[0] > 0:                        # already on the firing side: wait until it comes back
+        back = np.nonzero(vals <= 0)[0]
+        if back.size == 0:
+            return None
+        k = int(back[0])
+    while k < len(vals) - 1:
+        ups = np.nonzero(vals[k + 1:] > 0)[0]
+        if ups.size == 0:
+            return None
+        j = k + 1 + int(ups[0])             # vals[j-1] <= 0 < vals[j]
+        downs = np.nonzero(vals[j:] <= 0)[0]
+        end = j + int(downs[0]) if downs.size else len(vals)
+        peak = float(np.max(vals[j:end]))
+        growing = end == len(vals) and float(dp(grid[-1])) > 0
+        if peak > tol or growing:
+            lo, hi = grid[j - 1], grid[j]
+            if p(lo) == 0.0:
+                return float(lo)
+            return float(brentq(p, lo, hi, xtol=1e-16, rtol=4 * EPS, maxiter=200))
+        k = end
+    return None
+
+
+class Run:
+    """The exact piecewise propagation of one network over the output times ``t``."""
+
+    def __init__(self, network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0,
+                 method: str = "exact"):
+        from beltcalc.sim.core import augmented_matrix
+
+        self.network, self.t, self.max_events, self.method = network, t, max_events, method
+        t_end = float(t[-1])
+        self.t_end = t_end
+        self.starts = network.segment_starts(t_end)
+        self.ends = self.starts[1:] + [t_end]
+        all_taut = tuple(True for _ in network.strands)
+        F0 = augmented_matrix(network, all_taut, network.piece_time(0, self.starts, t_end))
+        self.S = balance(F0)
+        n = network.size
+        lam = np.linalg.eigvals(F0[:n, :n]) if n else np.zeros(0)
+        omega = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
+        self.cache = _Cache(network, self.S, omega, scale)
+        self.m = n
+        self.out = np.empty((n, t.size))
+        self.next_out = 0
+        self.switches: list[tuple[float, int, bool]] = []
+        self.located = 0
+        self.steps = 0
+        delta, force = network.strand_rows()
+        self.delta = delta * self.S[None, :]
+        self.force = force * self.S[None, :]
+        z = np.concatenate([x0, network.generators(0.0)]) / self.S
+        self.start_taut = self.decide(z, all_taut, 0, list(range(len(network.strands))))
+        self.z0 = z
+
+    # --- outputs ------------------------------------------------------------------------------
+    def emit(self, mode: Mode, base: np.ndarray, t_base: np.ndarray, until: float, inclusive: bool = False) -> None:
+        """Write the output samples with t < until (<= with ``inclusive``), each read off the
+        exact solution from the step start before it (rows of ``base`` at times ``t_base``)."""
+        t = self.t
+        stop = int(np.searchsorted(t, until, side="right" if inclusive else "left"))
+        if stop <= self.next_out:
+            return
+        idx = np.arange(self.next_out, stop)
+        k = np.clip(np.searchsorted(t_base, t[idx], side="right") - 1, 0, len(t_base) - 1)
+        tau = np.clip(t[idx] - t_base[k], 0.0, mode.h)
+        Z = mode.at(base[k], tau)
+        self.out[:, idx] = (Z * self.S[None, :]).T[:self.m]
+        self.next_out = stop
+
+    # --- decisions ----------------------------------------------------------------------------
+    def _tol(self, rows: np.ndarray, z: np.ndarray) -> np.ndarray:
+        return ROUND * (np.abs(rows) @ np.abs(z)) + 1e-300
+
+    def decide(self, z: np.ndarray, taut: tuple[bool, ...], seg: int, strands) -> tuple[bool, ...]:
+        """The pattern just after a restart at z. A strand in ``strands`` off its surfaces is
+        taut if its elongation and force are both positive. A strand on a surface (within
+        rounding) is taut if both leave zero upwards in the taut mode (the other strands as
+        decided); repeated until the pattern is consistent."""
+        if not len(self.network.strands):
+            return taut
+        dv, fv = self.delta @ z, self.force @ z
+        on = (np.abs(dv) <= self._tol(self.delta, z)) | (np.abs(fv) <= self._tol(self.force, z))
+        pattern = list(taut)
+        for k in strands:
+            if not on[k]:
+                pattern[k] = bool(dv[k] > 0 and fv[k] > 0)
+        near = np.nonzero(on)[0].tolist()
+        t_mid = self.network.piece_time(seg, self.starts, self.t_end)
+        for _ in range(len(near) + 2):
+            changed = False
+            for k in near:
+                trial = tuple(pattern[:k] + [True] + pattern[k + 1:])
+                mode = self.cache.get(trial, seg, t_mid)
+                V = _taylor(mode.Ft, z, mode.L)
+                up = self._leaves_up(self.delta[k], V) and self._leaves_up(self.force[k], V)
+                if pattern[k] != up:
+                    pattern[k], changed = up, True
+            if not changed:
+                break
+        return tuple(pattern)
+
+    def _leaves_up(self, row: np.ndarray, V: np.ndarray) -> bool:
+        """Whether row . z(s) is >= 0 just after s = 0 (the first coefficient beyond rounding
+        decides; none: at rest, which counts as taut)."""
+        c = V @ row
+        tol = ROUND * (np.abs(V) @ np.abs(row)) + 1e-300
+        big = np.nonzero(np.abs(c) > tol)[0]
+        return True if big.size == 0 else bool(c[big[0]] > 0)
+
+    # --- scanning -----------------------------------------------------------------------------
+    def _scan_exact(self, mode: Mode, Z: np.ndarray, first: bool, limit: float = 1.0):
+        """The first crossing on the bottom steps Z[i] -> Z[i+1] (rows): (i, s, event) or None.
+        ``first``: Z[0] is a restart point. ``limit``: fraction of the last step to examine."""
+        if not mode.events:
+            return None
+        count = Z.shape[0] - 1
+        E = len(mode.events)
+        C = (mode.R.reshape(TERMS * E, -1) @ Z[:count].T).reshape(TERMS, E, count)
+        tol = ROUND * (mode.absH @ np.abs(Z[:count]).T)  + 1e-300            # (E, count)
+        reach = np.abs(C[1:]).sum(axis=0)
+        cand = (np.abs(C[0]) <= reach + tol) & (reach + np.abs(C[0]) > tol)
+        steps = np.nonzero(cand.any(axis=0))[0]
+        for i in steps:
+            best = None
+            for e in np.nonzero(cand[:, i])[0]:
+                lim = limit if i == count - 1 else 1.0
+                s = _first_fire(C[:, e, i], mode.dirs[e], float(tol[e, i]), not (first and i == 0), lim)
+                if s is not None and (best is None or s < best[0]):
+                    best = (s, int(e))
+            if best is not None:
+                return int(i), best[0], best[1]
+        return None
+
+    def _hermite(self, mode: Mode, Z0: np.ndarray, Z1: np.ndarray, w: float) -> np.ndarray:
+        """Per step Z0[i] -> Z1[i] (rows, w long): whether a switching function may cross zero
+        inside it: a sign change, or the cubic Hermite through values and rates reaching zero."""
+        G0, G1 = Z0 @ mode.H.T, Z1 @ mode.H.T
+        D0, D1 = (Z0 @ mode.Ft.T) @ mode.H.T * w, (Z1 @ mode.Ft.T) @ mode.H.T * w
+        tol = ROUND * (np.abs(Z0) @ mode.absH.T) + 1e-300
+        change = ((G0 > tol) != (G1 > tol)) | ((G0 < -tol) != (G1 < -tol))
+        dG = G1 - G0
+        reach = 4 / 27 * (np.abs(D0 - dG) + np.abs(D1 - dG))
+        near = np.minimum(np.abs(G0), np.abs(G1)) <= reach + tol
+        return np.any(change | near, axis=-1)
+
+    def _descend(self, mode: Mode, z: np.ndarray, level: int, first: bool, limit: float, checked: bool = False):
+        """The first crossing in the step of length h / 2^level from z (only its first
+        ``limit`` fraction): (tau, event) or None. ``first`` forces the leftmost path down
+        to the bottom step (a restart's boundary layer)."""
+        if level == mode.K:
+            Z = np.vstack([z, mode.P(mode.K) @ z])
+            hit = self._scan_exact(mode, Z, first, limit)
+            self.steps += 1
+            return None if hit is None else (hit[1] * mode.L, hit[2])
+        w = mode.h / 2 ** level
+        if not (first or checked) and not self._hermite(mode, z[None], (mode.P(level) @ z)[None], w)[0]:
+            return None
+        half = w / 2
+        left = self._descend(mode, z, level + 1, first, min(1.0, 2 * limit))
+        if left is not None or limit <= 0.5:
+            return left
+        right = self._descend(mode, mode.P(level + 1) @ z, level + 1, False, 2 * limit - 1)
+        return None if right is None else (half + right[0], right[1])
+
+    # --- the run ------------------------------------------------------------------------------
+    def advance(self, mode: Mode, z: np.ndarray, t0: float, t_stop: float):
+        """Propagate from (t0, z) to the first crossing or to t_stop, writing the outputs on
+        the way: (t, z, event) of the crossing, or (t_stop, z(t_stop), None)."""
+        h = mode.h
+        total = (t_stop - t0) / h
+        n_full = int(math.floor(total * (1 + 4 * EPS)))
+        rem = (t_stop - t0) - n_full * h
+        if rem <= 4 * EPS * max(abs(t_stop), h):
+            rem = 0.0
+        i, block, first = 0, 8, True
+        P0 = mode.P(0)
+        while i < n_full:
+            cnt = min(block, n_full - i)
+            Z = _orbit(P0, z, cnt + 1)
+            times = t0 + (i + np.arange(cnt + 1)) * h
+            if mode.K == 0:
+                hit = self._scan_exact(mode, Z, first)
+                found = None if hit is None else (hit[0], hit[1] * h, hit[2])
+                self.steps += cnt
+            else:
+                found = None
+                flags = self._hermite(mode, Z[:-1], Z[1:], h)
+                if first:
+                    flags[0] = True
+                for j in np.nonzero(flags)[0]:
+                    res = self._descend(mode, Z[j], 0, first and j == 0, 1.0, checked=True)
+                    if res is not None:
+                        found = (int(j), res[0], res[1])
+                        break
+                self.steps += cnt if found is None else int(found[0]) + 1
+            if found is not None:
+                j, tau, e = found
+                te = times[j] + tau
+                self.emit(mode, Z[:j + 1], times[:j + 1], te)
+                return te, mode.at(Z[j], tau), e
+            self.emit(mode, Z[:cnt], times[:cnt], times[cnt])
+            z, i, first = Z[cnt], i + cnt, False
+            block = min(2 * block, MAX_BLOCK)
+        if rem > 0:
+            t_last = t0 + n_full * h
+            if mode.K == 0:
+                Z = np.vstack([z, P0 @ z])
+                hit = self._scan_exact(mode, Z, first, rem / h)
+                found = None if hit is None else (hit[1] * h, hit[2])
+            else:
+                found = self._descend(mode, z, 0, first, rem / h)
+            self.steps += 1
+            if found is not None:
+                tau, e = found
+                te = t_last + tau
+                self.emit(mode, z[None], np.array([t_last]), te)
+                return te, mode.at(z, tau), e
+            self.emit(mode, z[None], np.array([t_last]), t_stop)
+            return t_stop, mode.at(z, rem), None
+        return t_stop, z, None
+
+    def run(self) -> "Run":
+        net = self.network
+        z, taut = self.z0, self.start_taut
+        t_cur, seg = 0.0, 0
+        while seg < len(self.starts):
+            t_stop = self.ends[seg]
+            if t_stop <= t_cur:
+                seg += 1
+                continue
+            mode = self.cache.get(taut, seg, net.piece_time(seg, self.starts, self.t_end))
+            t_new, z, e = self.advance(mode, z, t_cur, t_stop)
+            if e is None:
+                t_cur, seg = t_stop, seg + 1
+                if seg < len(self.starts):           # the inputs change piece: re-decide strands on a surface
+                    new = self.decide(z, taut, seg, [])
+                    self._log(t_cur, taut, new)
+                    taut = new
+                continue
+            self.located += 1
+            if self.located > self.max_events:
+                name = net.strands[mode.events[e].strand].name
+                raise SimulationError(
+                    f"method {self.method}: {self.max_events} strand events by t = {t_new:.6g} s (strand {name} "
+                    "switches that often); add pretension or damping, or raise --max-events")
+            new = self.decide(z, taut, seg, [mode.events[e].strand])
+            self._log(t_new, taut, new)
+            taut, t_cur = new, t_new
+        mode = self.cache.get(taut, len(self.starts) - 1, net.piece_time(len(self.starts) - 1, self.starts, self.t_end))
+        self.emit(mode, z[None], np.array([self.t_end]), self.t_end, inclusive=True)
+        self.end_taut = taut
+        return self
+
+    def _log(self, t: float, before, after) -> None:
+        for k, (a, b) in enumerate(zip(before, after)):
+            if a != b:
+                self.switches.append((t, k, b))
+
+    def info(self) -> dict:
+        """Switches, each strand's time slack [s], and the work done."""
+        slack = {}
+        for k, s in enumerate(self.network.strands):
+            on, since, total = self.start_taut[k], 0.0, 0.0
+            for t, strand, state in self.switches:
+                if strand == k:
+                    if not on:
+                        total += t - since
+                    on, since = state, t
+            if not on:
+                total += self.t_end - since
+            slack[s.name] = total
+        names = [s.name for s in self.network.strands]
+        return {"events": len(self.switches), "located": self.located, "slack_time": slack,
+                "switches": [(t, names[k], on) for t, k, on in self.switches], "modes": self.cache.built}
+
+
+def piecewise_exact(network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0):
+    """Exact propagation between strand switches and time break points: (states, steps, info)."""
+    run = Run(network, t, x0, max_events, scale).run()
+    return run.out, run.steps, run.info()

@@ -41,7 +41,7 @@ from scipy.linalg import expm
 from beltcalc.errors import InputError, SimulationError, require_positive
 from beltcalc.sim.network import Network
 from beltcalc.sim.result import SimResult
-from beltcalc.sim.switching import EPS, _orbit, balance, piecewise_exact
+from beltcalc.sim.switching import EPS, _orbit, balance, piecewise_exact, slack_times
 
 
 @dataclass(frozen=True)
@@ -208,18 +208,8 @@ class _Switches:
 
     def info(self, t_end: float) -> dict:
         """Switch count and each strand's time slack [s]."""
-        slack = {}
-        for k, s in enumerate(self.network.strands):
-            on, since, total = self.start[k], 0.0, 0.0
-            for t, strand, state in self.log:
-                if strand == k:
-                    if not on:
-                        total += t - since
-                    on, since = state, t
-            if not on:
-                total += t_end - since
-            slack[s.name] = total
-        return {"events": len(self.log), "located": self.located, "slack_time": slack}
+        return {"events": len(self.log), "located": self.located,
+                "slack_time": slack_times(self.network, self.start, self.log, t_end)}
 
 
 def _ahead(F: np.ndarray, z: np.ndarray, h: float) -> np.ndarray:

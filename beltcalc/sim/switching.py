@@ -496,20 +496,26 @@ class Run:
 
     def info(self) -> dict:
         """Switches, each strand's time slack [s], and the work done."""
-        slack = {}
-        for k, s in enumerate(self.network.strands):
-            on, since, total = self.start_taut[k], 0.0, 0.0
-            for t, strand, state in self.switches:
-                if strand == k:
-                    if not on:
-                        total += t - since
-                    on, since = state, t
-            if not on:
-                total += self.t_end - since
-            slack[s.name] = total
+        slack = slack_times(self.network, self.start_taut, self.switches, self.t_end)
         names = [s.name for s in self.network.strands]
         return {"events": len(self.switches), "located": self.located, "slack_time": slack,
                 "switches": [(t, names[k], on) for t, k, on in self.switches], "modes": self.cache.built}
+
+
+def slack_times(network, start: tuple[bool, ...], log: list[tuple[float, int, bool]], t_end: float) -> dict:
+    """Each strand's time slack [s] from its first mode and its switches (t, strand, taut after)."""
+    slack = {}
+    for k, s in enumerate(network.strands):
+        on, since, total = start[k], 0.0, 0.0
+        for t, strand, state in log:
+            if strand == k:
+                if not on:
+                    total += t - since
+                on, since = state, t
+        if not on:
+            total += t_end - since
+        slack[s.name] = total
+    return slack
 
 
 def piecewise_exact(network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0):

@@ -400,7 +400,8 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
         tried.append(f"exact refined ({fine.error_relative:.1g})")
         if fine.error_relative <= cfg.error_tol:
             return fine
-        tight = SolverConfig("radau", min(cfg.rtol, cfg.error_tol / 100), min(cfg.atol, cfg.error_tol * 1e-4),
+        tight = SolverConfig("radau", max(1e-13, min(cfg.rtol, cfg.error_tol / 100)),  # scipy's floor is 2.2e-14
+                             max(1e-16, min(cfg.atol, cfg.error_tol * 1e-4)),
                              cfg.max_rhs_calls, cfg.max_events, True, cfg.error_tol, cfg.accept_error)
         try:
             radau = _run(network, t, x0, tight, "radau",

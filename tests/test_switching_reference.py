@@ -162,9 +162,6 @@ def test_bounce_reference_agrees_with_solve_ivp():
 
 
 @pytest.mark.parametrize("samples", [2001, 3])
-@pytest.mark.xfail(strict=True, reason="issue 16, open: a take-up without pretension is located a hair before "
-                   "delta = 0 (x = -2.7e-20 m), the restart's rounding test scales with that same tiny value and "
-                   "keeps the strand slack, so the event refires until --max-events stops the run (exit 1)")
 def test_bouncing_mass_switches_and_capture(samples):
     # every switch of the closed-form sequence to 1e-9 s, whatever the output grid (samples=3:
     # the whole run is two 0.5 s output steps)

@@ -306,44 +306,61 @@ class Run:
         self.next_out = stop
 
     # --- decisions ----------------------------------------------------------------------------
-    def _tol(self, rows: np.ndarray, z: np.ndarray) -> np.ndarray:
-        return ROUND * (np.abs(rows) @ np.abs(z)) + 1e-300
-
     def decide(self, z: np.ndarray, taut: tuple[bool, ...], seg: int, strands) -> tuple[bool, ...]:
         """The pattern just after a restart at z. A strand in ``strands`` off its surfaces is
-        taut if its elongation and force are both positive. A strand on a surface (within
-        rounding) is taut if both leave zero upwards in the taut mode (the other strands as
-        decided); repeated until the pattern is consistent."""
+        taut if its elongation and force are both positive. A strand on a surface is taut if
+        both leave zero upwards in the taut mode (the other strands as decided); repeated
+        until the pattern is consistent.
+
+        "On a surface" means within the rounding level of a value read off the exact
+        solution: ``ROUND`` times the sum of the magnitudes of its Taylor terms over one
+        bottom step (:meth:`_levels`). A located switch sits there: its value is a root of
+        the step's polynomial, so what is left of it (e.g. ``delta = -3e-20 m`` at a take-up
+        without pretension) is rounding, and its sign says nothing; the rate decides."""
         if not len(self.network.strands):
             return taut
+        t_mid = self.network.piece_time(seg, self.starts, self.t_end)
+        here = self.cache.get(taut, seg, t_mid)
+        V = _taylor(here.Ft, z, here.L)
         dv, fv = self.delta @ z, self.force @ z
-        on = (np.abs(dv) <= self._tol(self.delta, z)) | (np.abs(fv) <= self._tol(self.force, z))
+        on_d = np.abs(dv) <= self._levels(self.delta, V)
+        on_f = np.abs(fv) <= self._levels(self.force, V)
         pattern = list(taut)
         for k in strands:
-            if not on[k]:
+            if not (on_d[k] or on_f[k]):
                 pattern[k] = bool(dv[k] > 0 and fv[k] > 0)
-        near = np.nonzero(on)[0].tolist()
-        t_mid = self.network.piece_time(seg, self.starts, self.t_end)
+        near = np.nonzero(on_d | on_f)[0].tolist()
         for _ in range(len(near) + 2):
             changed = False
             for k in near:
                 trial = tuple(pattern[:k] + [True] + pattern[k + 1:])
                 mode = self.cache.get(trial, seg, t_mid)
-                V = _taylor(mode.Ft, z, mode.L)
-                up = self._leaves_up(self.delta[k], V) and self._leaves_up(self.force[k], V)
+                Vt = _taylor(mode.Ft, z, mode.L)
+                up = self._leaves_up(self.delta[k], Vt, on_d[k]) and self._leaves_up(self.force[k], Vt, on_f[k])
                 if pattern[k] != up:
                     pattern[k], changed = up, True
             if not changed:
                 break
         return tuple(pattern)
 
-    def _leaves_up(self, row: np.ndarray, V: np.ndarray) -> bool:
-        """Whether row . z(s) is >= 0 just after s = 0 (the first coefficient beyond rounding
-        decides; none: at rest, which counts as taut)."""
+    @staticmethod
+    def _levels(rows: np.ndarray, V: np.ndarray) -> np.ndarray:
+        """Rounding level of each row . z read off the exact solution: ROUND times
+        ``sum_j |rows| @ |V[j]|``, the magnitudes that enter the Taylor sum over one bottom
+        step (positions that cancel in an elongation, and the rate terms a located root
+        balances against)."""
+        return ROUND * (np.abs(V).sum(axis=0) @ np.abs(rows).T) + 1e-300
+
+    def _leaves_up(self, row: np.ndarray, V: np.ndarray, on: bool) -> bool:
+        """Whether row . z(s) is >= 0 just after s = 0. Off its surface the value decides; on
+        it (``on``), the first rate coefficient beyond rounding does (none: at rest, which
+        counts as taut)."""
         c = V @ row
+        if not on:
+            return bool(c[0] > 0)
         tol = ROUND * (np.abs(V) @ np.abs(row)) + 1e-300
-        big = np.nonzero(np.abs(c) > tol)[0]
-        return True if big.size == 0 else bool(c[big[0]] > 0)
+        big = np.nonzero(np.abs(c[1:]) > tol[1:])[0]
+        return True if big.size == 0 else bool(c[1 + big[0]] > 0)
 
     # --- scanning -----------------------------------------------------------------------------
     def _scan_exact(self, mode: Mode, Z: np.ndarray, first: bool, limit: float = 1.0):

@@ -1,9 +1,9 @@
-"""Catalog files (belts, threads, motors) loaded and validated into frozen SI dataclasses.
+"""Catalog files (belts, threads, motors, chains) loaded and validated into frozen SI dataclasses.
 
 A catalog file is TOML. It has a ``[source]`` table (``document``, optionally
 ``location`` and ``edition``), an optional ``units`` table naming the unit of every
-numeric key, and arrays of entries ``[[belts]]``, ``[[threads]]``, ``[[motors]]`` (any
-of them). An entry may carry its own ``units`` (merged over the file's) and its own
+numeric key, and arrays of entries ``[[belts]]``, ``[[threads]]``, ``[[motors]]``,
+``[[chains]]`` (any of them), or named ``[service_factors.NAME]`` tables. An entry may carry its own ``units`` (merged over the file's) and its own
 ``source`` string. Every number is converted to SI once, here; no other module reads a
 catalog file or knows a catalog number.
 
@@ -83,6 +83,8 @@ class BeltProfile:
     damping: float | None = None
     damping_source: str = ""
     note: str = ""
+    stock_teeth: tuple[int, ...] = ()
+    open_length: bool = False
 
     @property
     def name(self) -> str:
@@ -132,7 +134,61 @@ class Motor:
     n_rated: float
     n_max: float
     source: Source
+    # torque-speed zones as published: (speed [rad/s], torque [N m]) from 0 to n_max; () = none
+    intermittent: tuple[tuple[float, float], ...] = ()
+    continuous: tuple[tuple[float, float], ...] = ()
+    zone_source: str = ""
     efficiency: float | None = None
+
+
+@dataclass(frozen=True)
+class Chain:
+    """A roller chain of one strand count, SI: lengths [m], breaking load [N], mass [kg/m].
+
+    ``name`` is ``<size>-<strands>`` (``10B-1``, ``40-2``); ``iso`` the ISO 606 name of an
+    ANSI size (``08A``). ``mass`` is ``None`` where the catalog's sources do not print it.
+    ``roller_bushing_constant`` is K_r of the ACA roller-bushing rating formula.
+    """
+
+    name: str
+    size: str
+    series: str
+    strands: int
+    pitch: float
+    roller_diameter: float
+    inner_width: float
+    pin_diameter: float
+    breaking_load: float
+    source: Source
+    mass: float | None = None
+    transverse_pitch: float | None = None
+    roller_bushing_constant: float | None = None
+    iso: str = ""
+
+    @property
+    def aliases(self) -> tuple[str, ...]:
+        return (f"{self.iso}-{self.strands}",) if self.iso else ()
+
+
+@dataclass(frozen=True)
+class ServiceFactors:
+    """A service-factor table (``[service_factors.NAME]``), numbers as the source prints them.
+
+    ``base[load kind][peak class][hours class]``; ``start_stop[peak class][starts class]``;
+    the ``*_bounds`` are the class limits (see ``catalogs/belts/service_factors.toml``).
+    """
+
+    name: str
+    source: Source
+    load_kinds: tuple[str, ...]
+    peak_ratio_bounds: tuple[float, ...]
+    hours_bounds: tuple[float, ...]
+    base: tuple[tuple[tuple[float, ...], ...], ...]
+    starts_bounds: tuple[float, ...]
+    start_stop: tuple[tuple[float, ...], ...]
+    idler: dict
+    speed_up_bounds: tuple[float, ...]
+    speed_up: tuple[float, ...]
 
 
 # Per kind: key -> SI unit ("" for plain numbers); keys marked required must be present.
@@ -142,6 +198,8 @@ _FTSPEC_KEYS = {"speed": "rad/s", "load": "N/m"}
 _THREAD_KEYS = {"d": "m", "P": "m", "d2": "m", "flank_angle": "rad"}
 _MOTOR_KEYS = {"P": "W", "T_n": "N*m", "T_max": "N*m", "J": "kg*m^2",
                "n_rated": "rad/s", "n_max": "rad/s", "efficiency": ""}
+_CHAIN_KEYS = {"pitch": "m", "roller_diameter": "m", "inner_width": "m", "pin_diameter": "m",
+               "transverse_pitch": "m", "roller_bushing_constant": ""}
 _TEXT_KEYS = {"manufacturer", "profile", "name", "series", "source", "note", "damping_source", "units"}
 
 
@@ -158,7 +216,8 @@ def _unit_problem(unit: str, si_unit: str) -> str:
 class _Reader:
     """Reads one catalog file; every error names the file and the key."""
 
-    def __init__(self, path: Path, allowed=("source", "units", "belts", "threads", "motors")):
+    def __init__(self, path: Path, allowed=("source", "units", "belts", "threads", "motors", "chains",
+                                            "service_factors")):
         self.path = path
         try:
             with open(path, "rb") as fh:
@@ -253,7 +312,8 @@ class _Reader:
         out = []
         for i, e in enumerate(self.entries("belts")):
             where = f"belts[{i}]"
-            self.check_keys(e, [*_BELT_KEYS, "widths", "F_tspec", "z_e_max", "z_min"], where)
+            self.check_keys(e, [*_BELT_KEYS, "widths", "F_tspec", "z_e_max", "z_min", "stock_teeth",
+                                "open_length"], where)
             units = self.entry_units(e, where)
             nums = self.numbers(e, _BELT_KEYS, units, where, required=["pitch"])
             rows = []
@@ -280,7 +340,16 @@ class _Reader:
                     if not isinstance(e[key], int) or isinstance(e[key], bool) or e[key] <= 0:
                         self.fail(f"{where}.{key}", f"{e[key]!r} must be a whole number > 0")
                     ints[key] = e[key]
+            stock = e.get("stock_teeth", [])
+            if not isinstance(stock, list) or not all(isinstance(t, int) and not isinstance(t, bool)
+                                                      and t > 0 for t in stock) \
+                    or any(b <= a for a, b in zip(stock, stock[1:])):
+                self.fail(f"{where}.stock_teeth", "must be a list of whole tooth counts > 0, ascending")
+            open_length = e.get("open_length", False)
+            if not isinstance(open_length, bool):
+                self.fail(f"{where}.open_length", "must be true or false")
             out.append(BeltProfile(
+                stock_teeth=tuple(stock), open_length=open_length,
                 manufacturer=self.text(e, "manufacturer", where),
                 profile=self.text(e, "profile", where),
                 source=self.entry_source(e, where), widths=tuple(rows), F_tspec=tuple(table),
@@ -306,7 +375,7 @@ class _Reader:
         out = []
         for i, e in enumerate(self.entries("motors")):
             where = f"motors[{i}]"
-            self.check_keys(e, _MOTOR_KEYS, where)
+            self.check_keys(e, [*_MOTOR_KEYS, "intermittent", "continuous", "zone_source"], where)
             nums = self.numbers(e, _MOTOR_KEYS, self.entry_units(e, where), where,
                                 required=[k for k in _MOTOR_KEYS if k != "efficiency"])
             if nums["T_max"] < nums["T_n"]:
@@ -315,8 +384,103 @@ class _Reader:
                 self.fail(f"{where}.n_max", "maximum speed is below the rated speed")
             if nums.get("efficiency", 0.5) > 1:
                 self.fail(f"{where}.efficiency", "must be <= 1")
+            zones = {key: self.zone(e, key, where, nums) for key in ("intermittent", "continuous")}
             out.append(Motor(name=self.text(e, "name", where), series=self.text(e, "series", where, ""),
-                             source=self.entry_source(e, where), **nums))
+                             source=self.entry_source(e, where), zone_source=self.text(e, "zone_source", where, ""),
+                             **zones, **nums))
+        return out
+
+    def zone(self, e: dict, key: str, where: str, motor: dict) -> tuple[tuple[float, float], ...]:
+        """A motor's torque-speed zone: ``[{ speed = .., torque = .. }, ...]`` from speed 0 to
+        n_max, speeds ascending (units ``speed``, ``torque`` in the units table)."""
+        units = {**self.entry_units(e, where)}
+        points = []
+        for j, row in enumerate(self.rows(e, key, f"{where}.{key}")):
+            rw = f"{where}.{key}[{j}]"
+            self.check_keys(row, ("speed", "torque"), rw, text_keys=())
+            vals = self.numbers(row, {"speed": "rad/s", "torque": "N*m"}, units, rw, required=("speed", "torque"),
+                                zero_ok=("speed", "torque"))
+            points.append((vals["speed"], vals["torque"]))
+        if not points:
+            return ()
+        speeds = [w for w, _ in points]
+        if len(points) < 2 or speeds[0] != 0 or any(b <= a for a, b in zip(speeds, speeds[1:])):
+            self.fail(f"{where}.{key}", "needs 2 or more points, speeds ascending from 0")
+        if speeds[-1] < motor["n_max"] * (1 - 1e-9):
+            self.fail(f"{where}.{key}", "must reach the maximum speed n_max")
+        if "zone_source" not in e:
+            self.fail(f"{where}.zone_source", "a torque-speed zone must say where it comes from")
+        return tuple(points)
+
+
+    def chains(self) -> list[Chain]:
+        out = []
+        for i, e in enumerate(self.entries("chains")):
+            where = f"chains[{i}]"
+            self.check_keys(e, [*_CHAIN_KEYS, "breaking_load", "mass", "iso"], where)
+            units = self.entry_units(e, where)
+            nums = self.numbers(e, _CHAIN_KEYS, units, where,
+                                required=["pitch", "roller_diameter", "inner_width", "pin_diameter"])
+            loads = e.get("breaking_load")
+            if not isinstance(loads, list) or not loads:
+                self.fail(f"{where}.breaking_load", "must be a list of breaking loads by strand count (1, 2, ...)")
+            f_b = [self.numbers({"breaking_load": v}, {"breaking_load": "N"}, units, f"{where}.breaking_load[{k}]")
+                   ["breaking_load"] for k, v in enumerate(loads)]
+            if any(b <= a for a, b in zip(f_b, f_b[1:])):
+                self.fail(f"{where}.breaking_load", "must rise with the strand count")
+            masses = e.get("mass", {})
+            if not isinstance(masses, dict) or not all(k.isdigit() and 1 <= int(k) <= len(f_b) for k in masses):
+                self.fail(f"{where}.mass", "must be a table { strands = mass } with strands 1..len(breaking_load)")
+            mass = {int(k): self.numbers({"mass": v}, {"mass": "kg/m"}, units, f"{where}.mass.{k}")["mass"]
+                    for k, v in masses.items()}
+            size = self.text(e, "name", where)
+            iso = self.text(e, "iso", where, "")
+            for k, load in enumerate(f_b, start=1):
+                out.append(Chain(name=f"{size}-{k}", size=size, series=self.text(e, "series", where, ""),
+                                 strands=k, breaking_load=load, mass=mass.get(k), iso=iso,
+                                 source=self.entry_source(e, where), **nums))
+        return out
+
+    def service_factors(self) -> list[ServiceFactors]:
+        tables = self.data.get("service_factors", {})
+        if not isinstance(tables, dict):
+            self.fail("service_factors", "must be named tables [service_factors.NAME]")
+        out = []
+        for name, t in tables.items():
+            where = f"service_factors.{name}"
+            keys = ("load_kinds", "peak_ratio_bounds", "hours_bounds", "base", "starts_bounds", "start_stop",
+                    "idler", "speed_up_bounds", "speed_up")
+            missing = [k for k in keys if k not in t]
+            if missing:
+                self.fail(f"{where}.{missing[0]}", "missing")
+            extra = set(t) - set(keys) - {"load_examples"}
+            if extra:
+                self.fail(f"{where}.{sorted(extra)[0]}", "unknown key")
+
+            def grid(value, shape, key):
+                ok = isinstance(value, list) and len(value) == shape[0]
+                if ok and len(shape) > 1:
+                    return tuple(grid(v, shape[1:], key) for v in value)
+                if not ok or (len(shape) == 1 and not all(
+                        isinstance(x, (int, float)) and not isinstance(x, bool) and x >= 0 for x in value)):
+                    self.fail(f"{where}.{key}", f"must be a table of numbers >= 0 of shape {shape}")
+                return tuple(float(x) for x in value)
+
+            kinds = t["load_kinds"]
+            if not isinstance(kinds, list) or not all(isinstance(k, str) for k in kinds):
+                self.fail(f"{where}.load_kinds", "must be a list of names")
+            bounds = {k: grid(t[k], (len(t[k]) if isinstance(t[k], list) else -1,), k)
+                      for k in ("peak_ratio_bounds", "hours_bounds", "starts_bounds", "speed_up_bounds")}
+            n_peak, n_hours = len(bounds["peak_ratio_bounds"]) + 1, len(bounds["hours_bounds"]) + 1
+            idler = t["idler"]
+            if not isinstance(idler, dict) or not all(isinstance(v, (int, float)) for v in idler.values()):
+                self.fail(f"{where}.idler", "must be a table { position = added factor }")
+            out.append(ServiceFactors(
+                name=name, source=self.source, load_kinds=tuple(kinds),
+                base=grid(t["base"], (len(kinds), n_peak, n_hours), "base"),
+                start_stop=grid(t["start_stop"], (n_peak, len(bounds["starts_bounds"]) + 1), "start_stop"),
+                speed_up=grid(t["speed_up"], (len(bounds["speed_up_bounds"]) + 1,), "speed_up"),
+                idler={k: float(v) for k, v in idler.items()}, **bounds))
         return out
 
 
@@ -327,19 +491,25 @@ class Catalog:
     belts: dict[str, BeltProfile] = field(default_factory=dict)
     threads: dict[str, Thread] = field(default_factory=dict)
     motors: dict[str, Motor] = field(default_factory=dict)
+    chains: dict[str, Chain] = field(default_factory=dict)
+    service_factors: dict[str, ServiceFactors] = field(default_factory=dict)
     files: list[str] = field(default_factory=list)
 
     def add_file(self, path: Path) -> None:
         reader = _Reader(path)
         for kind, items in (("belts", reader.belts()), ("threads", reader.threads()),
-                            ("motors", reader.motors())):
+                            ("motors", reader.motors()), ("chains", reader.chains())):
             for item in items:
                 key = item.name.lower()
-                for other in (self.belts, self.threads, self.motors):
+                for other in (self.belts, self.threads, self.motors, self.chains):
                     if key in other:
                         raise CatalogError(f"{path}: {kind}: duplicate name {item.name!r} "
                                            f"(already in {other[key].source.path})")
                 getattr(self, kind)[key] = item
+        for table in reader.service_factors():
+            if table.name in self.service_factors:
+                raise CatalogError(f"{path}: service_factors: duplicate name {table.name!r}")
+            self.service_factors[table.name] = table
         self.files.append(str(path))
 
     def belt(self, name: str) -> BeltProfile:
@@ -352,9 +522,27 @@ class Catalog:
     def motor(self, name: str) -> Motor:
         return self._lookup("motor", self.motors, name, "motor")
 
-    def entry(self, name: str) -> BeltProfile | Thread | Motor:
+    def chain(self, name: str) -> Chain:
+        """A chain by name (``10B-1``, ``40-2``) or by its ISO 606 A-series name (``08A-2``)."""
+        key = name.strip().lower()
+        for chain in self.chains.values():
+            if key in (a.lower() for a in chain.aliases):
+                return chain
+        return self._lookup("chain", self.chains, name, "chain")
+
+    def service_factor_table(self, name: str) -> ServiceFactors:
+        if name not in self.service_factors:
+            raise CatalogError(f"no service-factor table {name!r} in the catalogs "
+                               f"(have: {', '.join(sorted(self.service_factors)) or 'none'})")
+        return self.service_factors[name]
+
+    def entry(self, name: str) -> BeltProfile | Thread | Motor | Chain:
         """Any entry by name (belts by profile too), for ``beltcalc catalog show``."""
-        merged = {**self.belts, **self.threads, **self.motors}
+        key = name.strip().lower()
+        for chain in self.chains.values():
+            if key in (a.lower() for a in chain.aliases):
+                return chain
+        merged = {**self.belts, **self.threads, **self.motors, **self.chains}
         return self._lookup("catalog entry", merged, name, None, aliases=True)
 
     def _lookup(self, what: str, table: dict, name: str, param: str | None, aliases: bool = False):
@@ -382,7 +570,8 @@ class Catalog:
 def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
     """Load the built-in catalogs plus the user's files ``extra`` (same format).
 
-    Scenes (``catalogs/scenes/``) are not catalog files and are skipped.
+    Scenes (``catalogs/scenes/``), duty cycles (``catalogs/cycles/``) and gearboxes
+    (``catalogs/gearboxes/``, read by :func:`load_gearboxes`) are not catalog files and are skipped.
 
     >>> cat = load_catalog()
     >>> cat.belt("AT10").width_row(0.025).F_Tadm
@@ -391,7 +580,7 @@ def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
     catalog = Catalog()
     root = builtin_dir()
     for path in sorted(root.rglob("*.toml")):
-        if "scenes" not in path.relative_to(root).parts:
+        if not {"scenes", "cycles", "gearboxes"} & set(path.relative_to(root).parts):
             catalog.add_file(path)
     for path in extra:
         catalog.add_file(Path(path))

@@ -96,3 +96,111 @@ def load_split(factor: float, width: float, length: float) -> tuple[float, float
     require_range("element_width", width, "m", 0.0, length, low_open=True)
     far = (factor * (length - width) + width) / (2.0 * length)
     return 1.0 - far, far
+
+
+# --- roller-chain drive geometry (issue 13) -----------------------------------------------
+# [ISO 606] ISO 606:2004, clause 5.3 (sprocket diametral dimensions: pitch circle
+#   d = p / sin(180 deg / z), root d_f = d - d1, tip diameter limits).
+# [Shigley] Shigley's Mechanical Engineering Design (9th ed.), Section 17-5: chordal speed
+#   variation (eq. 17-31 and Fig. 17-18), chain length (eq. 17-34), centre distance (17-35).
+
+
+def sprocket_root_diameter(pitch: float, teeth: int, roller_diameter: float) -> float:
+    r"""Root diameter of a sprocket [m]: :math:`d_f = d - d_1` (ISO 606, 5.3).
+
+    d pitch-circle diameter [m], d_1 the chain's roller diameter [m].
+
+    >>> round(sprocket_root_diameter(0.009525, 19, 0.00635) * 1e3, 2)
+    51.52
+    """
+    require_positive("roller_diameter", roller_diameter, "m")
+    return sprocket_pitch_diameter(pitch, teeth) - roller_diameter
+
+
+def sprocket_tip_diameters(pitch: float, teeth: int, roller_diameter: float) -> tuple[float, float]:
+    r"""Smallest and largest tip diameter ISO 606 allows for a sprocket [m].
+
+    .. math:: d_{a,min} = d + p\,(1 - 1.6 / z) - d_1, \quad d_{a,max} = d + 1.25 p - d_1
+
+    ISO 606, 5.3 (tooth heights and tip diameters). The CROSS+MORSE 06B 19-tooth sprocket
+    (d = 57.87 mm, outside 61.3 mm) lies inside this range.
+
+    >>> [round(x * 1e3, 2) for x in sprocket_tip_diameters(0.009525, 19, 0.00635)]
+    [60.24, 63.43]
+    """
+    require_positive("roller_diameter", roller_diameter, "m")
+    d = sprocket_pitch_diameter(pitch, teeth)
+    return d + pitch * (1.0 - 1.6 / teeth) - roller_diameter, d + 1.25 * pitch - roller_diameter
+
+
+def polygon_speed_variation(teeth: int) -> float:
+    r"""Chordal (polygon) speed variation of a chain on a sprocket [-].
+
+    .. math:: \frac{v_{max} - v_{min}}{v_{max}} = 1 - \cos(180^\circ / z)
+
+    The chain leaves at the radius d/2 when a roller sits on the line of centres and at
+    (d/2) cos(180 deg / z) half a pitch later (Shigley Fig. 17-18). z >= 3.
+
+    >>> round(polygon_speed_variation(17), 5)
+    0.01704
+    """
+    if teeth < 3 or teeth != int(teeth):
+        raise InputError(f"{teeth:g} teeth is not allowed; a sprocket needs a whole number >= 3", param="teeth")
+    return 1.0 - math.cos(math.pi / teeth)
+
+
+def chain_length_links(center_distance: float, pitch: float, teeth_small: int, teeth_large: int) -> float:
+    r"""Chain length in pitches for a centre distance (not rounded) [-].
+
+    .. math:: \frac{L}{p} = \frac{2C}{p} + \frac{N_1 + N_2}{2} + \frac{(N_2 - N_1)^2}{4\pi^2 C/p}
+
+    Shigley eq. (17-34). The usual approximate formula (it drops terms of order beta^4, as
+    the manufacturers' charts do).
+
+    >>> round(chain_length_links(0.635, 0.0254, 17, 34), 4)
+    75.7928
+    """
+    require_positive("center_distance", center_distance, "m")
+    require_positive("pitch", pitch, "m")
+    c = center_distance / pitch
+    return 2.0 * c + (teeth_small + teeth_large) / 2.0 + (teeth_large - teeth_small) ** 2 / (4.0 * math.pi ** 2 * c)
+
+
+def chain_links_even(links: float) -> int:
+    """The next even number of links at or above ``links`` (no cranked offset link needed).
+
+    >>> chain_links_even(75.7928), chain_links_even(76.0), chain_links_even(76.2)
+    (76, 76, 78)
+    """
+    n = math.ceil(links - 1e-9)
+    return n + (n % 2)
+
+
+def chain_center_distance(links: float, pitch: float, teeth_small: int, teeth_large: int) -> float:
+    r"""Centre distance for a chain of ``links`` pitches [m] (exact inverse of eq. 17-34).
+
+    .. math:: A = \frac{N_1 + N_2}{2} - \frac{L}{p}, \quad
+              C = \frac{p}{4}\left[-A + \sqrt{A^2 - 8\left(\frac{N_2 - N_1}{2\pi}\right)^2}\right]
+
+    Shigley eq. (17-35).
+
+    >>> round(chain_center_distance(76, 0.0254, 17, 34) * 1e3, 3)
+    637.647
+    """
+    require_positive("pitch", pitch, "m")
+    a = (teeth_small + teeth_large) / 2.0 - links
+    disc = a * a - 8.0 * ((teeth_large - teeth_small) / (2.0 * math.pi)) ** 2
+    if a >= 0 or disc < 0:
+        raise InputError(f"{links:g} links are too few for sprockets of {teeth_small} and {teeth_large} teeth",
+                         param="links")
+    return pitch / 4.0 * (-a + math.sqrt(disc))
+
+
+def chain_speed(pitch: float, teeth: int, speed: float) -> float:
+    r"""Mean chain speed [m/s]: :math:`v = z p \omega / (2\pi)` (Shigley eq. 17-30).
+
+    >>> round(chain_speed(0.0254, 17, 300 * math.pi / 30), 4)
+    2.159
+    """
+    require_positive("pitch", pitch, "m")
+    return teeth * pitch * speed / (2.0 * math.pi)

@@ -1,0 +1,461 @@
+"""The checks a designer signs off for a timing-belt drive: geometry, tooth shear, tension
+member, pulley size, shaft load, installation tension and its span frequency. SI floats.
+
+References:
+
+[1] Elatech catalogue (Goodyear Elatech PT belt division), p. 55, as recorded in
+    ../shared/data/SOURCED_DATA.md: F_Tmax = F_TV + F_U <= F_Tadm; linear drives F_TV >= F_U.
+[2] BRECO/BRECOFLEX design pages (belt-pilot.com, id=1702): tooth capacity
+    F_t = F_tspec(n) * b[cm] * z_e, teeth in mesh z_e capped at z_e max.
+[3] Tsubakimoto, technical data, synchronous belts, correction factors (Tables 1-4: Ko,
+    Ki, Ks, Ka) and meshing factor (Table 6: full capacity with 6 or more teeth in mesh).
+[4] Shigley's Mechanical Engineering Design (9th ed.), Section 17-1: T1 - T2 = F_U,
+    T1 + T2 = 2 F_i for a belt with equal spans; the resultant of two strand forces.
+[5] Wojtkowiak et al., Energies 14 (2021) 317, eq. (10)-(12): the paper's tension.
+[6] Gates 508C sonic tension meter manual: f = sqrt(F / m') / (2 L).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+from beltcalc import belt as bm
+from beltcalc import geometry as geo
+from beltcalc.catalogs import BeltProfile, ServiceFactors
+from beltcalc.checks import Check
+from beltcalc.errors import InputError, require_positive, require_range
+
+LAYOUTS = ("linear", "endless")
+MIN_TEETH_IN_MESH = 6      # Tsubaki Table 6 [3]: meshing factor 1.0 from 6 teeth in mesh
+
+
+def peripheral_force(torque: float, pitch_diameter: float) -> float:
+    r"""Peripheral (effective) force of a pulley [N].
+
+    .. math:: F_U = 2 T / d_0
+
+    T torque on the pulley [N m], d_0 its pitch diameter [m]. Tsubaki formula sheet
+    ("Fa = 2T/Dp") and BRECO formula sheets (F_U = 2 10^3 M / d_0 in N, N m, mm).
+
+    >>> round(peripheral_force(31.83, 0.12732), 6)
+    500.0
+    """
+    require_positive("torque", torque, "N*m")
+    require_positive("pulley_diameter", pitch_diameter, "m")
+    return 2.0 * torque / pitch_diameter
+
+
+def specific_tooth_load(table: tuple[tuple[float, float], ...], speed: float) -> float:
+    r"""The catalog's specific tooth load F_tspec at pulley speed ``speed`` [N/m].
+
+    Linear interpolation in the table of (speed [rad/s], F_tspec [N/m]) pairs [2]; a
+    speed beyond the last row is refused (the table is not extrapolated).
+
+    >>> rpm = math.pi / 30
+    >>> round(specific_tooth_load(((0.0, 3640.0), (1000 * rpm, 2649.0)), 500 * rpm), 6)
+    3144.5
+    """
+    if not table:
+        raise InputError("the belt has no F_tspec(n) table", param="belt")
+    require_range("speed", speed, "rad/s", 0.0)
+    speeds = [s for s, _ in table]
+    if speed > speeds[-1] * (1 + 1e-12):
+        raise InputError(f"{speed * 30 / math.pi:.6g} rpm is beyond the catalog's F_tspec table "
+                         f"(up to {speeds[-1] * 30 / math.pi:.6g} rpm); it is not extrapolated", param="speed")
+    for (s0, f0), (s1, f1) in zip(table, table[1:]):
+        if s0 <= speed <= s1:
+            return f0 + (f1 - f0) * (speed - s0) / (s1 - s0)
+    return table[-1][1]
+
+
+def tooth_shear_capacity(specific_load: float, width: float, teeth_meshing: float) -> float:
+    r"""Peripheral force the teeth in mesh can carry [N].
+
+    .. math:: F_{U,adm} = F_{tspec}(n) \, b \, z_e
+
+    F_tspec [N/m] per tooth and unit width (the catalogs print N/cm with b in cm), b belt
+    width [m], z_e teeth in mesh. BRECO [2]; Wojtkowiak et al. 2021, section 3.2.
+
+    >>> round(tooth_shear_capacity(3640.0, 0.025, 12), 6)
+    1092.0
+    """
+    require_positive("width", width, "m")
+    require_positive("teeth_meshing", teeth_meshing, "")
+    return specific_load * width * teeth_meshing
+
+
+def shaft_load(tight: float, slack: float, wrap: float) -> float:
+    r"""Resultant of the two strand forces on a pulley (its shaft/bearing load) [N].
+
+    .. math:: F_W = \sqrt{T_1^2 + T_2^2 - 2 T_1 T_2 \cos\alpha}
+
+    T_1, T_2 strand forces [N], alpha the wrap angle [rad]: the strands pull along their
+    tangents, which enclose pi - alpha. Vector sum (Shigley [4], Fig. 17-1 geometry).
+    alpha = pi gives T_1 + T_2.
+
+    >>> shaft_load(1000.0, 500.0, math.pi)
+    1500.0
+    >>> round(shaft_load(600.0, 400.0, math.pi / 2), 3)
+    721.11
+    """
+    for name, v in (("tight", tight), ("slack", slack)):
+        if not (math.isfinite(v) and v >= 0):
+            raise InputError(f"strand force {v:g} N must be >= 0 N", param="pretension")
+    return math.sqrt(max(tight * tight + slack * slack - 2.0 * tight * slack * math.cos(wrap), 0.0))
+
+
+def installation_tension_rule(force: float, layout: str) -> float:
+    r"""The manufacturers' minimum installation tension (pretension) [N].
+
+    .. math:: F_v \ge F_U \ \text{(linear)}, \qquad F_v \ge F_U / 2 \ \text{(endless)}
+
+    Linear drives: Elatech catalogue p. 55 [1] (the idle side must not go slack whatever
+    the carriage position). Endless two-pulley drives with equal spans: the slack side
+    T_2 = F_v - F_U / 2 >= 0 with T_1 - T_2 = F_U, T_1 + T_2 = 2 F_v (Shigley [4]).
+
+    >>> installation_tension_rule(500.0, "linear"), installation_tension_rule(500.0, "endless")
+    (500.0, 250.0)
+    """
+    if layout not in LAYOUTS:
+        raise InputError(f"{layout!r} is not a layout; use one of {', '.join(LAYOUTS)}", param="layout")
+    return force if layout == "linear" else force / 2.0
+
+
+def _class(value: float, bounds: tuple[float, ...], closed_low: bool) -> int:
+    """Index of the class of ``value``: bounds b_0 < b_1 < ...; ``closed_low`` puts a value
+    equal to a bound into the upper class."""
+    for i, b in enumerate(bounds):
+        if value < b or (value == b and not closed_low):
+            return i
+    return len(bounds)
+
+
+@dataclass(frozen=True)
+class ServiceFactor:
+    """Service factor c2 and its parts [-] (see :func:`service_factor`)."""
+
+    value: float
+    base: float           # Ko (or Ka when larger)
+    base_from: str        # "Ko" or "Ka"
+    idler: float          # Ki
+    speed_up: float       # Ks
+    text: str
+
+
+def service_factor(table: ServiceFactors, load: str, hours: float, peak_ratio: float,
+                   starts_per_day: float, idler: str = "none", speed_up_ratio: float = 1.0) -> ServiceFactor:
+    r"""Service factor of a synchronous belt drive from the Tsubaki tables [3].
+
+    .. math:: c_2 = \max(K_o, K_a) + K_i + K_s
+
+    K_o (Table 1) by load kind, peak/rated output ratio and hours per day; K_a (Table 4)
+    by the peak ratio and starts-stops per day; K_i (Table 2) idler; K_s (Table 3)
+    speed-increase ratio. Class limits as printed: hours < 3 | 3-10 | > 10; peak ratio
+    <= 200 % | 201-249 % | >= 250 %; starts <= 10 | 11-100 | 101-999 | >= 1000; speed-up
+    [1, 1.25) | [1.25, 1.75) | ... Taking the larger of K_o and K_a and adding K_i, K_s is
+    our reading of how the tables combine (docs/design_checks.md).
+
+    >>> from beltcalc.catalogs import load_catalog
+    >>> t = load_catalog().service_factor_table("synchronous_belt")
+    >>> service_factor(t, "moderate", 8, 2.0, 10).value
+    1.4
+    >>> service_factor(t, "smooth", 2, 3.0, 2000, "tight_outside", 2.0).value
+    2.3
+    """
+    if load not in table.load_kinds:
+        raise InputError(f"{load!r} is not a load kind; use one of {', '.join(table.load_kinds)}", param="load")
+    require_range("hours", hours, "h", 0.0, 24.0)
+    require_range("peak_ratio", peak_ratio, "", 1.0)
+    require_range("starts_per_day", starts_per_day, "", 0.0)
+    require_range("speed_up_ratio", speed_up_ratio, "", 1.0)
+    if idler not in table.idler:
+        raise InputError(f"{idler!r} is not an idler position; use one of {', '.join(table.idler)}", param="idler")
+    peak = _class(peak_ratio, table.peak_ratio_bounds, closed_low=False)        # <= 2.0 | (2, 2.5) | >= 2.5
+    if peak_ratio == table.peak_ratio_bounds[-1]:
+        peak = len(table.peak_ratio_bounds)
+    hrs = _class(hours, table.hours_bounds, closed_low=True)                   # < 3 | 3..10 | > 10
+    if hours == table.hours_bounds[-1]:
+        hrs = len(table.hours_bounds) - 1
+    starts = _class(starts_per_day, table.starts_bounds, closed_low=False)     # <= 10 | ... | >= 1000
+    k_o = table.base[table.load_kinds.index(load)][peak][hrs]
+    k_a = table.start_stop[peak][starts]
+    k_i = table.idler[idler]
+    k_s = table.speed_up[_class(speed_up_ratio, table.speed_up_bounds, closed_low=True)]
+    base, base_from = (k_o, "Ko") if k_o >= k_a else (k_a, "Ka")
+    value = round(base + k_i + k_s, 12)
+    text = (f"{base_from} = {base:g} ({load} load, {hours:g} h/day, peak {peak_ratio:.0%} of rated, "
+            f"{starts_per_day:g} starts/day) + Ki {k_i:g} ({idler}) + Ks {k_s:g} (speed-up {speed_up_ratio:g}); "
+            f"{table.source.document}")
+    return ServiceFactor(value, base, base_from, k_i, k_s, text)
+
+
+@dataclass(frozen=True)
+class BeltDriveInputs:
+    """The drive as the designer knows it, SI. ``teeth_large=None``: equal pulleys.
+
+    The peripheral force F_U is ``force`` if given, else 2 ``torque`` / d_1, else
+    ``mass`` * ``accel`` + ``friction_force`` (a linear axis). ``pulley_speed`` [rad/s] or
+    ``belt_speed`` [m/s] sets the running speed for the F_tspec table. ``pretension`` None:
+    the manufacturers' rule. ``service_factor`` None: from the table with ``load`` ...
+    """
+
+    layout: str
+    teeth: int
+    center_distance: float
+    width: float
+    teeth_large: int | None = None
+    force: float | None = None
+    torque: float | None = None
+    mass: float | None = None
+    accel: float | None = None
+    friction_force: float = 0.0
+    pulley_speed: float | None = None
+    belt_speed: float | None = None
+    pretension: float | None = None
+    service_factor: float | None = None
+    load: str = "moderate"
+    hours: float = 8.0
+    peak_ratio: float = 2.0
+    starts_per_day: float = 10.0
+    idler: str = "none"
+    speed_up_ratio: float = 1.0
+    stroke: float | None = None
+    carriage_length: float = 0.0
+    clamp_allowance: float = 0.0
+    tension_accel: float = 0.1
+    tension_speed: float = 0.005
+    f_tspec: float | None = None        # N/m, overrides the catalog table at the running speed
+
+
+@dataclass(frozen=True)
+class WidthTrial:
+    width: float
+    worst: str
+    utilisation: float
+    passed: bool
+
+
+@dataclass(frozen=True)
+class WidthSelection:
+    rule: str
+    tried: tuple[WidthTrial, ...]
+    chosen: float
+
+
+@dataclass(frozen=True)
+class BeltDriveReport:
+    """Everything :func:`check_belt_drive` computed, SI (see the field comments)."""
+
+    belt: str
+    layout: str
+    width: float                      # m
+    teeth: tuple[int, int]
+    diameters: tuple[float, float]    # m, pitch diameters
+    wrap: tuple[float, float]         # rad
+    span: float                       # m, free span (endless) / return span (linear)
+    belt_length: float                # m, pitch length (endless) / cut length (linear)
+    belt_teeth: float                 # 1
+    stock: tuple[int | None, int | None]
+    stock_center_distance: tuple[float | None, float | None]   # m
+    linear: geo.LinearAxisGeometry | None
+    teeth_in_mesh: float
+    teeth_in_mesh_uncapped: float
+    force: float                      # N, F_U
+    force_source: str
+    service: ServiceFactor
+    speed: float | None               # rad/s, small pulley
+    belt_speed: float | None          # m/s
+    specific_load: float | None       # N/m
+    tooth_capacity: float | None      # N
+    pretension: float                 # N, F_v used
+    pretension_rule: float            # N
+    pretension_source: str
+    paper_tension: float | None       # N, eq. 10-12
+    tight: float                      # N
+    slack: float                      # N
+    shaft_loads: tuple[float, float]  # N, at the small and the large pulley
+    f_tadm: float | None
+    span_frequency_rule: float | None  # Hz
+    span_frequency_paper: float | None  # Hz
+    checks: tuple[Check, ...]
+    selection: WidthSelection | None = None
+    warnings: tuple[str, ...] = field(default=())
+
+
+def _force(inp: BeltDriveInputs, d1: float) -> tuple[float, str]:
+    if inp.force is not None:
+        return require_positive("force", inp.force, "N"), "given (--force)"
+    if inp.torque is not None:
+        return peripheral_force(inp.torque, d1), f"2 T / d1 with T = {inp.torque:g} N m"
+    if inp.mass is not None and inp.accel is not None:
+        require_positive("mass", inp.mass, "kg")
+        require_positive("accel", inp.accel, "m/s^2")
+        require_range("friction_force", inp.friction_force, "N", 0.0)
+        return (inp.mass * inp.accel + inp.friction_force,
+                f"m a_max + F_R = {inp.mass:g} kg x {inp.accel:g} m/s^2 + {inp.friction_force:g} N")
+    raise InputError("give the peripheral force: --force, --torque, or --mass with --accel", param="force")
+
+
+def _paper_tension(inp: BeltDriveInputs, belt: BeltProfile, d1: float) -> float | None:
+    """F_t,peak of eq. (10)-(12) [5] for a linear axis with a mass; None otherwise."""
+    if inp.layout != "linear" or inp.mass is None or inp.accel is None:
+        return None
+    from beltcalc.tension import TensionInputs, _damping
+
+    row = belt.width_row(inp.width)
+    if row.w_spec is None:
+        return None
+    t_inp = TensionInputs(center_distance=inp.center_distance, width=inp.width, mass=inp.mass, accel=inp.accel,
+                          tension_accel=inp.tension_accel, tension_speed=inp.tension_speed, mu=0.2,
+                          pulley_diameter=d1)
+    teeth = bm.teeth_on_span(inp.center_distance, belt.pitch)
+    m_tb = bm.substitute_mass(bm.belt_mass_on_span(row.w_spec, inp.center_distance), teeth)
+    damping, _, _ = _damping(t_inp, belt, teeth)
+    return bm.tension_peak(m_tb, inp.mass, inp.accel, inp.tension_accel, inp.tension_speed, damping)
+
+
+def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFactors) -> BeltDriveReport:
+    """Geometry and capacity checks of one belt width (see the module references).
+
+    >>> from beltcalc.catalogs import load_catalog
+    >>> cat = load_catalog()
+    >>> inp = BeltDriveInputs(layout="linear", teeth=40, center_distance=1.245, width=0.025,
+    ...                       mass=50.0, accel=10.0)
+    >>> r = check_belt_drive(inp, cat.belt("AT10"), cat.service_factor_table("synchronous_belt"))
+    >>> r.force, r.pretension, round(r.paper_tension, 1), [c.verdict for c in r.checks][:2]
+    (500.0, 500.0, 505.1, ['n/a', 'pass'])
+    """
+    if inp.layout not in LAYOUTS:
+        raise InputError(f"{inp.layout!r} is not a layout; use one of {', '.join(LAYOUTS)}", param="layout")
+    require_positive("width", inp.width, "m")
+    z1 = inp.teeth
+    z2 = inp.teeth_large if inp.teeth_large is not None else z1
+    for name, z in (("teeth", z1), ("teeth_large", z2)):
+        if z != int(z) or z < 1:
+            raise InputError(f"{z:g} is not allowed; a pulley needs a whole number of teeth >= 1", param=name)
+    if z2 < z1:
+        raise InputError(f"{z2} teeth: the large pulley must have at least the {z1} teeth of --teeth",
+                         param="teeth_large")
+    if inp.layout == "linear" and z2 != z1:
+        raise InputError("a linear axis here has equal pulleys; leave --teeth-large out", param="teeth_large")
+    d1, d2 = bm.pulley_pitch_diameter(z1, belt.pitch), bm.pulley_pitch_diameter(z2, belt.pitch)
+    a = inp.center_distance
+    wrap = geo.wrap_angles(d1, d2, a)
+    row = belt.width_row(inp.width)
+
+    linear = None
+    if inp.layout == "linear":
+        stroke = inp.stroke if inp.stroke is not None else max(a - inp.carriage_length, 0.0)
+        linear = geo.linear_axis_geometry(a, d1, inp.carriage_length, stroke, inp.clamp_allowance)
+        length, span = linear.belt_length, linear.return_span
+        z_belt = geo.belt_teeth(linear.pitch_length, belt.pitch)
+        stock, stock_a = (None, None), (None, None)
+    else:
+        length, span = geo.belt_pitch_length(d1, d2, a), geo.span_length(d1, d2, a)
+        z_belt = geo.belt_teeth(length, belt.pitch)
+        stock = geo.nearest_stock_teeth(z_belt, belt.stock_teeth)
+        stock_a = tuple(geo.center_distance_for_length(d1, d2, t * belt.pitch) if t else None for t in stock)
+
+    z_e_raw = z1 * wrap[0] / (2.0 * math.pi)
+    z_e = min(z_e_raw, belt.z_e_max) if belt.z_e_max else z_e_raw
+
+    force, force_source = _force(inp, d1)
+    if inp.service_factor is not None:
+        c2 = require_range("service_factor", inp.service_factor, "", 1.0)
+        service = ServiceFactor(c2, c2, "given", 0.0, 0.0, "given (--service-factor)")
+    else:
+        service = service_factor(factors, inp.load, inp.hours, inp.peak_ratio, inp.starts_per_day,
+                                 inp.idler, inp.speed_up_ratio)
+
+    speed = belt_speed = None
+    if inp.pulley_speed is not None:
+        speed = require_range("speed", inp.pulley_speed, "rad/s", 0.0)
+        belt_speed = speed * d1 / 2.0
+    elif inp.belt_speed is not None:
+        belt_speed = require_range("speed", inp.belt_speed, "m/s", 0.0)
+        speed = 2.0 * belt_speed / d1
+
+    rule = installation_tension_rule(force, inp.layout)
+    if inp.pretension is not None:
+        f_v = require_range("pretension", inp.pretension, "N", 0.0)
+        pre_src = "given (--pretension)"
+    else:
+        f_v = rule
+        pre_src = ("manufacturers' rule F_v = F_U (linear drive, Elatech p. 55)" if inp.layout == "linear"
+                   else "manufacturers' rule F_v = F_U / 2 (endless: slack side stays taut)")
+    if inp.layout == "linear":
+        tight, slack = f_v + force, f_v          # worst carriage position: the tight side takes all of F_U
+    else:
+        tight, slack = f_v + force / 2.0, max(f_v - force / 2.0, 0.0)
+    loads = (shaft_load(tight, slack, wrap[0]), shaft_load(tight, slack, wrap[1]))
+    paper = _paper_tension(inp, belt, d1)
+
+    w_spec = row.w_spec
+    freq_rule = bm.span_frequency(f_v, w_spec, span) if w_spec else None
+    freq_paper = bm.span_frequency(paper, w_spec, span) if (w_spec and paper is not None) else None
+
+    # --- checks ----------------------------------------------------------------------
+    specific = capacity = None
+    reason = ""
+    if inp.f_tspec is not None:
+        specific = require_positive("f_tspec", inp.f_tspec, "N/m")
+    elif not belt.F_tspec:
+        reason = f"{belt.name} has no F_tspec(n) table in its catalog; give --f-tspec"
+    elif speed is None:
+        reason = "no running speed; give --speed"
+    else:
+        try:
+            specific = specific_tooth_load(belt.F_tspec, speed)
+        except InputError as exc:
+            reason = exc.message
+    if specific is not None:
+        capacity = tooth_shear_capacity(specific, inp.width, z_e)
+    checks = [
+        Check("tooth_shear", "tooth shear F_U c2 <= F_tspec(n) b z_e", force * service.value, capacity, "N",
+              rule="BRECO F_t = F_tspec(n) b z_e, service factor c2 (Tsubaki)", reason=reason),
+        Check("tension_member", "tension member F_U + F_v <= F_Tadm", force + f_v, row.F_Tadm, "N",
+              rule="Elatech p. 55: F_Tmax = F_TV + F_U <= F_Tadm",
+              reason="" if row.F_Tadm else f"{belt.name} {inp.width * 1e3:g} mm has no published F_Tadm"),
+        Check("pretension", "installation tension F_v >= rule", f_v, rule, "N", kind="min",
+              rule="linear: F_v >= F_U (Elatech p. 55); endless: F_v >= F_U / 2"),
+        Check("pulley_teeth", "pulley teeth z_1 >= z_min", float(z1), float(belt.z_min) if belt.z_min else None, "1",
+              kind="min", rule="catalog minimum pulley teeth",
+              reason="" if belt.z_min else f"the catalog gives no z_min for {belt.name}"),
+        Check("teeth_in_mesh", "teeth in mesh z_e >= 6", z_e, float(MIN_TEETH_IN_MESH), "1", kind="min",
+              rule="Tsubaki Table 6: full capacity from 6 teeth in mesh"),
+    ]
+    warnings = [c.warning() for c in checks if c.verdict == "FAIL"]
+    return BeltDriveReport(
+        belt=belt.name, layout=inp.layout, width=inp.width, teeth=(z1, z2), diameters=(d1, d2), wrap=wrap,
+        span=span, belt_length=length, belt_teeth=z_belt, stock=stock, stock_center_distance=stock_a,
+        linear=linear, teeth_in_mesh=z_e, teeth_in_mesh_uncapped=z_e_raw, force=force, force_source=force_source,
+        service=service, speed=speed, belt_speed=belt_speed, specific_load=specific, tooth_capacity=capacity,
+        pretension=f_v, pretension_rule=rule, pretension_source=pre_src, paper_tension=paper, tight=tight,
+        slack=slack, shaft_loads=loads, f_tadm=row.F_Tadm, span_frequency_rule=freq_rule,
+        span_frequency_paper=freq_paper, checks=tuple(checks), warnings=tuple(warnings),
+    )
+
+
+SELECTION_RULE = ("narrowest catalog width whose checks all pass (tooth shear with the service factor, "
+                  "tension member F_U + F_v <= F_Tadm, installation tension, pulley and mesh teeth); "
+                  "a check that is n/a does not block a width")
+
+
+def select_belt_width(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFactors) -> BeltDriveReport:
+    """Check every catalog width, narrowest first; return the first that passes, with the
+    widths tried and the rule (``report.selection``)."""
+    if not belt.widths:
+        raise InputError(f"{belt.name} has no width table to select from", param="belt")
+    tried = []
+    for row in belt.widths:
+        report = check_belt_drive(replace(inp, width=row.width), belt, factors)
+        rated = [c for c in report.checks if c.utilisation is not None]
+        worst = max(rated, key=lambda c: c.utilisation)
+        passed = all(c.verdict != "FAIL" for c in report.checks)
+        tried.append(WidthTrial(row.width, worst.key, worst.utilisation, passed))
+        if passed:
+            return replace(report, selection=WidthSelection(SELECTION_RULE, tuple(tried), row.width))
+    listed = ", ".join(f"{t.width * 1e3:g} mm ({t.worst} {t.utilisation:.0%})" for t in tried)
+    raise InputError(f"no width of {belt.name} passes; tried {listed}; choose a larger profile or lower the load",
+                     param="select_width")

@@ -1,0 +1,245 @@
+"""Roller-chain selection: power rating, the chains of the catalog that carry a drive, and
+the geometry and safety of each. SI floats only.
+
+References:
+
+[1] American Chain Association rating formulas as printed in Shigley's Mechanical
+    Engineering Design (9th ed.), eq. (17-32) link-plate limit and (17-33) roller-bushing
+    limit, with the multiple-strand factors K2 of Table 17-23; the same formulas and
+    constants in Machinery's Handbook, "Horsepower capacity of roller chains".
+[2] ISO 10823:2004 (selection of roller chain drives): corrected power = power x service
+    factor x tooth factor (19 / z_1)^1.08, i.e. the same z_1^1.08 law as [1].
+[3] Diamond Chain, technical engineering guide: the load in service should never exceed
+    1/6 of the minimum ultimate tensile strength.
+[4] Shigley Example 17-5: 90 hp at 300 rev/min, 17/34 teeth, K_s = 1.3, n_d = 1.5,
+    C/p = 25 -> 1 strand no. 200, 2 strands no. 160, 3 and 4 strands no. 140.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Iterable
+
+from beltcalc import chain as cm
+from beltcalc.catalogs import Chain
+from beltcalc.errors import InputError, require_positive, require_range
+
+HORSEPOWER = 745.69987158227022        # W, mechanical horsepower (550 ft lbf/s)
+INCH = 0.0254                          # m
+RPM = math.pi / 30.0                   # rad/s per rev/min
+# Multiple-strand factors K2, Shigley Table 17-23 [1]
+STRAND_FACTORS = {1: 1.0, 2: 1.7, 3: 2.5, 4: 3.3, 5: 3.9, 6: 4.6, 8: 6.0}
+MIN_SAFETY_FACTOR = 6.0                # [3]
+
+
+def rated_power_link_plate(pitch: float, teeth: int, speed: float) -> float:
+    r"""Single-strand power rating limited by link-plate fatigue [W].
+
+    .. math:: H_1 = 0.004\, N_1^{1.08}\, n_1^{0.9}\, p^{3 - 0.07 p} \ \text{hp}
+
+    p pitch [in], n_1 small-sprocket speed [rev/min], N_1 its teeth (Shigley eq. 17-32 [1]).
+    Rates ANSI chains 40-240 (no. 41: 0.0022, not in the catalog).
+
+    >>> round(rated_power_link_plate(1.75 * INCH, 17, 300 * RPM) / HORSEPOWER, 2)
+    72.39
+    """
+    require_positive("pitch", pitch, "m")
+    require_positive("speed", speed, "rad/s")
+    p = pitch / INCH
+    return 0.004 * teeth ** 1.08 * (speed / RPM) ** 0.9 * p ** (3.0 - 0.07 * p) * HORSEPOWER
+
+
+def rated_power_roller_bushing(pitch: float, teeth: int, speed: float, k_r: float = 17.0) -> float:
+    r"""Single-strand power rating limited by roller-bushing impact fatigue [W].
+
+    .. math:: H_2 = \frac{1000\, K_r\, N_1^{1.5}\, p^{0.8}}{n_1^{1.5}} \ \text{hp}
+
+    K_r = 17 for chains 40-240 (29 for 25 and 35), p [in], n_1 [rev/min] (Shigley eq.
+    17-33 [1]). Falls with speed: it governs at high speed.
+
+    >>> round(rated_power_roller_bushing(0.5 * INCH, 17, 3000 * RPM) / HORSEPOWER, 3)
+    4.165
+    """
+    require_positive("pitch", pitch, "m")
+    require_positive("speed", speed, "rad/s")
+    p = pitch / INCH
+    return 1000.0 * k_r * teeth ** 1.5 * p ** 0.8 / (speed / RPM) ** 1.5 * HORSEPOWER
+
+
+def rated_power(chain: Chain, teeth: int, speed: float) -> tuple[float, str]:
+    """Rating of ``chain`` (all its strands) on a ``teeth`` sprocket at ``speed`` [W], and
+    which limit governs: K2 min(H1, H2) [1]."""
+    if chain.strands not in STRAND_FACTORS:
+        raise InputError(f"{chain.name}: no multiple-strand factor for {chain.strands} strands", param="chain")
+    h1 = rated_power_link_plate(chain.pitch, teeth, speed)
+    h2 = rated_power_roller_bushing(chain.pitch, teeth, speed, chain.roller_bushing_constant or 17.0)
+    k2 = STRAND_FACTORS[chain.strands]
+    return (k2 * h1, "link plate") if h1 <= h2 else (k2 * h2, "roller bushing")
+
+
+@dataclass(frozen=True)
+class ChainInputs:
+    """A chain drive, SI. Power [W] or torque [N m] on the small sprocket at ``speed``
+    [rad/s]; ``center_distance`` [m], or ``center_pitches`` (C/p) when it is None."""
+
+    speed: float
+    teeth_small: int = 17
+    teeth_large: int = 34
+    power: float | None = None
+    torque: float | None = None
+    service_factor: float = 1.0
+    design_factor: float = 1.0
+    center_distance: float | None = None
+    center_pitches: float = 30.0
+
+
+@dataclass(frozen=True)
+class ChainCandidate:
+    """One chain checked against the drive (SI)."""
+
+    chain: Chain
+    rated_power: float                 # W
+    governing: str                     # "link plate" | "roller bushing"
+    utilisation: float                 # required / rated
+    chain_speed: float                 # m/s
+    pull: float                        # N, F = P / v
+    centrifugal: float | None          # N, q v^2
+    safety_factor: float | None        # F_B / (K_s F + F_c)
+    carries: bool
+
+
+@dataclass(frozen=True)
+class ChainGeometry:
+    """Sprockets and chain length of the chosen chain (SI)."""
+
+    pitch_diameters: tuple[float, float]
+    tip_diameters: tuple[tuple[float, float], tuple[float, float]]
+    root_diameters: tuple[float, float]
+    links_exact: float
+    links: int
+    center_distance: float             # m, back-solved for the even link count
+    polygon_variation: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class ChainReport:
+    power: float                        # W, nominal
+    required: float                     # W, n_d K_s H_nom
+    torque: float                       # N m on the small sprocket
+    speed: float                        # rad/s
+    teeth: tuple[int, int]
+    service_factor: float
+    design_factor: float
+    candidates: tuple[ChainCandidate, ...]      # every chain checked
+    best_per_strands: dict                      # strands -> ChainCandidate (smallest pitch that carries)
+    chosen: ChainCandidate
+    geometry: ChainGeometry
+    rule: str
+    warnings: tuple[str, ...] = field(default=())
+
+
+SELECTION_RULE = ("rated power K2 min(H1, H2) >= n_d K_s P (ACA formulas, Shigley eq. 17-32/33) and breaking-load "
+                  "safety F_B / (K_s F + q v^2) >= 6 (Diamond Chain); of those, the smallest pitch, then the fewest "
+                  "strands")
+
+
+def chain_geometry(chain: Chain, inp: ChainInputs) -> ChainGeometry:
+    """Sprocket diameters (ISO 606), chain length in even links and the centre distance
+    back-solved for it (Shigley eq. 17-34/35), polygon speed variation."""
+    z1, z2 = inp.teeth_small, inp.teeth_large
+    c = inp.center_distance if inp.center_distance is not None else inp.center_pitches * chain.pitch
+    d = (cm.sprocket_pitch_diameter(chain.pitch, z1), cm.sprocket_pitch_diameter(chain.pitch, z2))
+    if c <= (d[0] + d[1]) / 2:
+        raise InputError(f"{c:g} m: the sprockets of {chain.name} ({d[0]:.4g} m and {d[1]:.4g} m) overlap",
+                         param="center_distance")
+    exact = cm.chain_length_links(c, chain.pitch, z1, z2)
+    links = cm.chain_links_even(exact)
+    return ChainGeometry(
+        pitch_diameters=d,
+        tip_diameters=(cm.sprocket_tip_diameters(chain.pitch, z1, chain.roller_diameter),
+                       cm.sprocket_tip_diameters(chain.pitch, z2, chain.roller_diameter)),
+        root_diameters=(cm.sprocket_root_diameter(chain.pitch, z1, chain.roller_diameter),
+                        cm.sprocket_root_diameter(chain.pitch, z2, chain.roller_diameter)),
+        links_exact=exact, links=links,
+        center_distance=cm.chain_center_distance(links, chain.pitch, z1, z2),
+        polygon_variation=(cm.polygon_speed_variation(z1), cm.polygon_speed_variation(z2)),
+    )
+
+
+def check_chain(chain: Chain, inp: ChainInputs, power: float, required: float) -> ChainCandidate:
+    """Rating, pull, centrifugal pull and breaking-load safety of one chain."""
+    rated, governing = rated_power(chain, inp.teeth_small, inp.speed)
+    v = cm.chain_speed(chain.pitch, inp.teeth_small, inp.speed)
+    pull = power / v
+    f_c = chain.mass * v * v if chain.mass is not None else None
+    safety = chain.breaking_load / (inp.service_factor * pull + f_c) if f_c is not None else None
+    carries = rated >= required and (safety is None or safety >= MIN_SAFETY_FACTOR)
+    return ChainCandidate(chain, rated, governing, required / rated, v, pull, f_c, safety, carries)
+
+
+def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = None) -> ChainReport:
+    """Every catalog chain checked; the smallest that carries the drive chosen (or ``name``).
+
+    >>> from beltcalc.catalogs import load_catalog
+    >>> r = select_chain(ChainInputs(speed=300 * RPM, power=90 * HORSEPOWER, service_factor=1.3,
+    ...                              design_factor=1.5, center_pitches=25), load_catalog().chains.values())
+    >>> {k: c.chain.name for k, c in sorted(r.best_per_strands.items())}
+    {1: '200-1', 2: '160-2', 3: '140-3', 4: '140-4'}
+    >>> r.chosen.chain.name, r.geometry.links
+    ('140-3', 76)
+    """
+    require_positive("speed", inp.speed, "rad/s")
+    for key, z in (("teeth", inp.teeth_small), ("teeth_large", inp.teeth_large)):
+        if z != int(z) or z < 3:
+            raise InputError(f"{z:g} is not allowed; a sprocket needs a whole number of teeth >= 3", param=key)
+    if inp.teeth_large < inp.teeth_small:
+        raise InputError(f"{inp.teeth_large} teeth: the large sprocket must have at least the {inp.teeth_small} "
+                         "teeth of --teeth", param="teeth_large")
+    require_range("service_factor", inp.service_factor, "", 1.0)
+    require_range("design_factor", inp.design_factor, "", 1.0)
+    require_positive("center_pitches", inp.center_pitches, "")
+    if inp.power is not None:
+        power = require_positive("power", inp.power, "W")
+    elif inp.torque is not None:
+        power = require_positive("torque", inp.torque, "N*m") * inp.speed
+    else:
+        raise InputError("give the power (--power) or the torque (--torque) on the small sprocket", param="power")
+    required = inp.design_factor * inp.service_factor * power
+    candidates = tuple(check_chain(c, inp, power, required) for c in chains)
+    if not candidates:
+        raise InputError("no chain to choose from (check --series and --strands)", param="series")
+    best: dict[int, ChainCandidate] = {}
+    for cand in sorted(candidates, key=lambda c: c.chain.pitch):
+        if cand.carries and cand.chain.strands not in best:
+            best[cand.chain.strands] = cand
+    warnings = []
+    if name is not None:
+        matches = [c for c in candidates if c.chain.name.lower() == name.lower()
+                   or name.lower() in (a.lower() for a in c.chain.aliases)]
+        if not matches:
+            raise InputError(f"{name!r} is not among the chains checked", param="chain")
+        chosen = matches[0]
+        if not chosen.carries:
+            warnings.append(f"{chosen.chain.name} does not carry the drive: needs {required / 1e3:.4g} kW, "
+                            f"rated {chosen.rated_power / 1e3:.4g} kW ({chosen.governing})"
+                            + (f", safety factor {chosen.safety_factor:.2f} < {MIN_SAFETY_FACTOR:g}"
+                               if chosen.safety_factor is not None and chosen.safety_factor < MIN_SAFETY_FACTOR
+                               else ""))
+    else:
+        if not best:
+            top = max(candidates, key=lambda c: c.rated_power)
+            raise InputError(f"no chain in the catalog carries {required / 1e3:.4g} kW at "
+                             f"{inp.speed / RPM:.6g} rpm on {inp.teeth_small} teeth (the strongest, {top.chain.name}, "
+                             f"is rated {top.rated_power / 1e3:.4g} kW); use more teeth, a faster shaft or more strands",
+                             param="power")
+        chosen = min(best.values(), key=lambda c: (c.chain.pitch, c.chain.strands))
+    if chosen.centrifugal is None:
+        warnings.append(f"{chosen.chain.name}: the catalog has no mass for it, so the centrifugal pull and the "
+                        "breaking-load safety factor are not computed")
+    return ChainReport(
+        power=power, required=required, torque=power / inp.speed, speed=inp.speed,
+        teeth=(inp.teeth_small, inp.teeth_large), service_factor=inp.service_factor,
+        design_factor=inp.design_factor, candidates=candidates, best_per_strands=best, chosen=chosen,
+        geometry=chain_geometry(chosen.chain, inp), rule=SELECTION_RULE, warnings=tuple(warnings),
+    )

@@ -1,0 +1,65 @@
+"""The check layer: one :class:`Check` per design rule (value, limit, margin, verdict).
+
+A check is ``value <= limit`` (``kind="max"``) or ``value >= limit`` (``kind="min"``).
+Its utilisation is value/limit (max) or limit/value (min): 1 is exactly at the limit,
+above 1 fails. A check that cannot be made (a table the catalog lacks, an input not
+given) has verdict ``"n/a"`` and says why in ``reason``; it never fails silently.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Check:
+    """One design check, SI values. ``rule`` says what is compared and where it comes from."""
+
+    key: str
+    name: str
+    value: float | None
+    limit: float | None
+    unit: str
+    kind: str = "max"          # "max": value <= limit; "min": value >= limit
+    rule: str = ""
+    reason: str = ""           # why it is n/a
+
+    @property
+    def utilisation(self) -> float | None:
+        """value / limit (max) or limit / value (min); None when n/a.
+
+        >>> Check("t", "tooth shear", 50.0, 100.0, "N").utilisation
+        0.5
+        >>> Check("z", "teeth", 20.0, 15.0, "1", kind="min").utilisation
+        0.75
+        """
+        if self.value is None or self.limit is None:
+            return None
+        if self.kind == "max":
+            return self.value / self.limit if self.limit > 0 else float("inf")
+        return self.limit / self.value if self.value > 0 else float("inf")
+
+    @property
+    def margin(self) -> float | None:
+        """limit - value (max) or value - limit (min), in ``unit``; None when n/a."""
+        if self.value is None or self.limit is None:
+            return None
+        return self.limit - self.value if self.kind == "max" else self.value - self.limit
+
+    @property
+    def verdict(self) -> str:
+        """``"pass"``, ``"FAIL"`` or ``"n/a"``.
+
+        >>> Check("t", "tooth shear", 150.0, 100.0, "N").verdict
+        'FAIL'
+        """
+        u = self.utilisation
+        if u is None:
+            return "n/a"
+        return "pass" if u <= 1.0 + 1e-12 else "FAIL"
+
+    def warning(self) -> str:
+        """The one-line warning of a failed check."""
+        op = "<=" if self.kind == "max" else ">="
+        return (f"{self.name} FAILS: {self.value:.4g} {self.unit} must be {op} {self.limit:.4g} {self.unit} "
+                f"(utilisation {self.utilisation:.0%}; {self.rule})")

@@ -412,18 +412,18 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
     if specific is not None:
         capacity = tooth_shear_capacity(specific, inp.width, z_e)
     checks = [
-        Check("tooth_shear", "tooth shear F_U c2 <= F_tspec(n) b z_e", force * service.value, capacity, "N",
-              rule="BRECO F_t = F_tspec(n) b z_e, service factor c2 (Tsubaki)", reason=reason),
-        Check("tension_member", "tension member F_U + F_v <= F_Tadm", force + f_v, row.F_Tadm, "N",
-              rule="Elatech p. 55: F_Tmax = F_TV + F_U <= F_Tadm",
+        Check("tooth_shear", "tooth shear", force * service.value, capacity, "N",
+              rule="F_U c2 <= F_tspec(n) b z_e (BRECO; service factor c2: Tsubaki)", reason=reason),
+        Check("tension_member", "tension member", force + f_v, row.F_Tadm, "N",
+              rule="F_U + F_v <= F_Tadm (Elatech p. 55)",
               reason="" if row.F_Tadm else f"{belt.name} {inp.width * 1e3:g} mm has no published F_Tadm"),
-        Check("pretension", "installation tension F_v >= rule", f_v, rule, "N", kind="min",
+        Check("pretension", "installation tension", f_v, rule, "N", kind="min",
               rule="linear: F_v >= F_U (Elatech p. 55); endless: F_v >= F_U / 2"),
-        Check("pulley_teeth", "pulley teeth z_1 >= z_min", float(z1), float(belt.z_min) if belt.z_min else None, "1",
-              kind="min", rule="catalog minimum pulley teeth",
+        Check("pulley_teeth", "pulley teeth", float(z1), float(belt.z_min) if belt.z_min else None, "1",
+              kind="min", rule="z_1 >= z_min of the catalog",
               reason="" if belt.z_min else f"the catalog gives no z_min for {belt.name}"),
-        Check("teeth_in_mesh", "teeth in mesh z_e >= 6", z_e, float(MIN_TEETH_IN_MESH), "1", kind="min",
-              rule="Tsubaki Table 6: full capacity from 6 teeth in mesh"),
+        Check("teeth_in_mesh", "teeth in mesh", z_e, float(MIN_TEETH_IN_MESH), "1", kind="min",
+              rule="z_e >= 6 (Tsubaki Table 6: full capacity from 6 teeth in mesh)"),
     ]
     warnings = [c.warning() for c in checks if c.verdict == "FAIL"]
     return BeltDriveReport(

@@ -105,7 +105,7 @@ class ChainCandidate:
     chain_speed: float                 # m/s
     pull: float                        # N, F = P / v
     centrifugal: float | None          # N, q v^2
-    safety_factor: float | None        # F_B / (K_s F + F_c)
+    safety_factor: float               # F_B / (K_s F + F_c); F_c left out where the mass is unknown
     carries: bool
 
 
@@ -137,6 +137,7 @@ class ChainReport:
     geometry: ChainGeometry
     rule: str
     warnings: tuple[str, ...] = field(default=())
+    notes: tuple[str, ...] = field(default=())
 
 
 SELECTION_RULE = ("rated power K2 min(H1, H2) >= n_d K_s P (ACA formulas, Shigley eq. 17-32/33) and breaking-load "
@@ -173,8 +174,8 @@ def check_chain(chain: Chain, inp: ChainInputs, power: float, required: float) -
     v = cm.chain_speed(chain.pitch, inp.teeth_small, inp.speed)
     pull = power / v
     f_c = chain.mass * v * v if chain.mass is not None else None
-    safety = chain.breaking_load / (inp.service_factor * pull + f_c) if f_c is not None else None
-    carries = rated >= required and (safety is None or safety >= MIN_SAFETY_FACTOR)
+    safety = chain.breaking_load / (inp.service_factor * pull + (f_c or 0.0))   # no mass: without q v^2
+    carries = rated >= required and safety >= MIN_SAFETY_FACTOR
     return ChainCandidate(chain, rated, governing, required / rated, v, pull, f_c, safety, carries)
 
 
@@ -224,8 +225,7 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
             warnings.append(f"{chosen.chain.name} does not carry the drive: needs {required / 1e3:.4g} kW, "
                             f"rated {chosen.rated_power / 1e3:.4g} kW ({chosen.governing})"
                             + (f", safety factor {chosen.safety_factor:.2f} < {MIN_SAFETY_FACTOR:g}"
-                               if chosen.safety_factor is not None and chosen.safety_factor < MIN_SAFETY_FACTOR
-                               else ""))
+                               if chosen.safety_factor < MIN_SAFETY_FACTOR else ""))
     else:
         if not best:
             top = max(candidates, key=lambda c: c.rated_power)
@@ -234,10 +234,11 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
                              f"is rated {top.rated_power / 1e3:.4g} kW); use more teeth, a faster shaft or more strands",
                              param="power")
         chosen = min(best.values(), key=lambda c: (c.chain.pitch, c.chain.strands))
+    notes = []
     if chosen.centrifugal is None:
-        warnings.append(f"{chosen.chain.name}: the catalog has no mass for it, so the centrifugal pull and the "
-                        "breaking-load safety factor are not computed")
-    return ChainReport(
+        notes.append(f"{chosen.chain.name}: the catalog has no mass for it: the centrifugal pull q v^2 is not "
+                     "computed and the safety factor leaves it out")
+    return ChainReport(notes=tuple(notes),
         power=power, required=required, torque=power / inp.speed, speed=inp.speed,
         teeth=(inp.teeth_small, inp.teeth_large), service_factor=inp.service_factor,
         design_factor=inp.design_factor, candidates=candidates, best_per_strands=best, chosen=chosen,

@@ -71,6 +71,9 @@ class TensionReport:
     span_length: float            # m
     span_frequency: float         # Hz
     warnings: tuple[str, ...] = field(default=())
+    # set by select_width: the rule, and (width [m], safety x F_t,peak / F_Tadm, passed) per width tried
+    selection_rule: str = ""
+    widths_tried: tuple[tuple[float, float, bool], ...] = field(default=())
 
 
 def _catalog_value(given: float | None, row: BeltWidth | None, key: str, option: str,
@@ -187,10 +190,15 @@ def select_width(inp: TensionInputs, belt: BeltProfile, thread: Thread,
     if not rows:
         raise InputError(f"{belt.name} has no width table with F_Tadm to select from", param="belt")
     report = None
+    tried = []
+    rule = (f"narrowest catalog width with F_Tadm >= safety factor x F_t,peak (safety factor "
+            f"{safety_factor:g}; eq. 10-12 of Wojtkowiak et al. 2021, widths tried narrowest first)")
     for row in rows:
         report = design_tension(replace(inp, width=row.width), belt, thread)
+        need = safety_factor * report.tension_peak / report.allowable_tension
+        tried.append((row.width, need, need <= 1.0))
         if report.allowable_tension >= safety_factor * report.tension_peak:
-            return report
+            return replace(report, selection_rule=rule, widths_tried=tuple(tried))
     widest = rows[-1].width
     raise InputError(
         f"no width of {belt.name} carries {safety_factor:g} x F_t,peak = "

@@ -71,7 +71,7 @@ def test_list_names_belts_threads_and_motors():
 def test_list_json():
     result = ok(run("catalog", "list", "--json"))
     obj = json.loads(result.stdout)
-    assert set(obj) == {"belts", "threads", "motors"}
+    assert set(obj) == {"belts", "threads", "motors", "chains"}
     names = {kind: {e["name"] for e in entries} for kind, entries in obj.items()}
     assert "BRECO-AT10" in names["belts"]
     assert "M10x1" in names["threads"]

@@ -20,14 +20,19 @@ _UNITS = {
                    "w_spec": ("kg/m", ""), "breaking": ("N", "")},
     "F_tspec": {"speed": ("rad/s", "rpm"), "load": ("N/m", "N/cm")},
     "thread": {"d": ("m", "mm"), "P": ("m", "mm"), "d2": ("m", "mm"), "flank_angle": ("rad", "deg")},
+    "chain": {"pitch": ("m", "mm"), "roller_diameter": ("m", "mm"), "inner_width": ("m", "mm"),
+              "pin_diameter": ("m", "mm"), "transverse_pitch": ("m", "mm"), "breaking_load": ("N", "kN"),
+              "mass": ("kg/m", ""), "strands": ("1", ""), "roller_bushing_constant": ("1", "")},
     "motor": {"P": ("W", ""), "T_n": ("N m", ""), "T_max": ("N m", ""), "J": ("kg m^2", "kg*cm^2"),
               "n_rated": ("rad/s", "rpm"), "n_max": ("rad/s", "rpm"), "efficiency": ("1", "")},
 }
 
 
 def _kind(entry) -> str:
-    from beltcalc.catalogs import BeltProfile, Thread
+    from beltcalc.catalogs import BeltProfile, Chain, Thread
 
+    if isinstance(entry, Chain):
+        return "chain"
     return "belt" if isinstance(entry, BeltProfile) else "thread" if isinstance(entry, Thread) else "motor"
 
 
@@ -62,13 +67,18 @@ def _summary(entry) -> str:
         return f"pitch {entry.pitch * 1e3:g} mm, widths {widths}{unit}{table}"
     if kind == "thread":
         return f"{entry.series} P = {entry.P * 1e3:g} mm, d2 = {entry.d2 * 1e3:.3f} mm"
+    if kind == "chain":
+        iso = f" (ISO {entry.iso}-{entry.strands})" if entry.iso else ""
+        mass = f", {entry.mass:.3g} kg/m" if entry.mass is not None else ""
+        return (f"{entry.series} series{iso}, pitch {entry.pitch * 1e3:g} mm, "
+                f"F_B {entry.breaking_load / 1e3:.4g} kN{mass}")
     return (f"T_n {entry.T_n:g} N m, T_max {entry.T_max:g} N m, J {entry.J * 1e4:g} kg cm^2, "
             f"n_max {entry.n_max * 30 / math.pi:.0f} rpm")
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 def catalog():
-    """List and show the belts, threads and motors of the catalogs."""
+    """List and show the belts, threads, motors and chains of the catalogs."""
 
 
 @catalog.command("list")
@@ -79,7 +89,7 @@ def list_entries(catalog_paths, as_json, csv_path):
     from beltcalc.catalogs import load_catalog
 
     cat = load_catalog(catalog_paths)
-    groups = {"belts": cat.belts, "threads": cat.threads, "motors": cat.motors}
+    groups = {"belts": cat.belts, "threads": cat.threads, "motors": cat.motors, "chains": cat.chains}
     records = [(kind, e.name, _summary(e), str(e.source)) for kind, table in groups.items()
                for e in table.values()]
     if csv_path is not None:

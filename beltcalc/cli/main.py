@@ -30,6 +30,8 @@ COMMANDS = {
     "catalog": "beltcalc.cli.catalog:catalog",
     "motor-size": "beltcalc.cli.motor_size:motor_size",
     "simulate": "beltcalc.cli.simulate:simulate",
+    "belt-drive": "beltcalc.cli.belt_drive:belt_drive",
+    "chain": "beltcalc.cli.chain:chain",
 }
 
 

@@ -69,14 +69,26 @@ def tension(belt, width, select_width, safety_factor, center_distance, mass, acc
     rows = [row for _, section in sections for row in section]
     if csv_path is not None:
         write_atomic(csv_path, rows_csv(rows))
+    selection = {}
+    if report.selection_rule:
+        selection = {"width_selection": {
+            "rule": report.selection_rule, "chosen": {"value": report.width, "unit": "m"},
+            "tried": [{"width": {"value": w, "unit": "m"}, "utilisation": {"value": u, "unit": "1"}, "passed": ok}
+                      for w, u, ok in report.widths_tried]}}
     if as_json:
         click.echo(rows_json(rows, belt=report.belt, thread=report.thread,
                              substitute_mass_model=report.substitute_mass_model,
-                             damping_source=report.damping_source, warnings=list(report.warnings)))
+                             damping_source=report.damping_source, **selection, warnings=list(report.warnings)))
     else:
         title = (f"Belt tension: {report.belt} {report.width * 1e3:g} mm, "
                  f"a = {center_distance * 1e3:g} mm, thread {report.thread}")
-        print_table(title, sections, notes=[f"b_TB: {report.damping_source}"])
+        notes = [f"b_TB: {report.damping_source}"]
+        if report.selection_rule:
+            tried = ", ".join(f"{w * 1e3:g} mm ({'pass' if ok else 'too narrow'}: {u:.0%} of F_Tadm)"
+                              for w, u, ok in report.widths_tried)
+            notes.append(f"width selection: chose {report.width * 1e3:g} mm; tried {tried}; "
+                         f"rule: {report.selection_rule}")
+        print_table(title, sections, notes=notes)
     for warning in report.warnings:
         click.secho(f"Warning: {warning}", err=True, fg="yellow")
 

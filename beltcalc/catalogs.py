@@ -571,7 +571,7 @@ def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
     """Load the built-in catalogs plus the user's files ``extra`` (same format).
 
     Scenes (``catalogs/scenes/``), duty cycles (``catalogs/cycles/``) and gearboxes
-    (``catalogs/gearboxes/``, read by :func:`load_gearboxes`) are not catalog files and are skipped.
+    (``catalogs/gearboxes/``, read by :mod:`beltcalc.gearboxes`) are not catalog files and are skipped.
 
     >>> cat = load_catalog()
     >>> cat.belt("AT10").width_row(0.025).F_Tadm

@@ -13,11 +13,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Sequence
 
 from beltcalc.catalogs import Motor
 from beltcalc.drive import BeltAxis, Duty, duty, motor_damping
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.profiles import Trapezoid
+
+if TYPE_CHECKING:
+    from beltcalc.dutycycle import CycleDuty, Drive, Segment, ZoneCheck
 
 BAND = (0.5, 1.0)  # preferred RMS utilisation of the rated torque
 
@@ -33,10 +37,18 @@ class MotorCheck:
     rms_ok: bool
     speed_ok: bool
     inertia_ok: bool
+    zone: "ZoneCheck | None" = None      # the intermittent torque-speed zone (cycle checks)
+    zone_points: tuple[tuple[float, float], ...] = ()
+    zone_assumed: bool = False           # True: the catalog has no curve; the assumed one is used
+    continuous_limit: float | None = None  # the RMS limit used (T_n, or the continuous zone at the mean speed)
+
+    @property
+    def zone_ok(self) -> bool:
+        return self.zone is None or self.zone.ok
 
     @property
     def ok(self) -> bool:
-        return self.peak_ok and self.rms_ok and self.speed_ok and self.inertia_ok
+        return self.peak_ok and self.rms_ok and self.speed_ok and self.inertia_ok and self.zone_ok
 
     @property
     def utilisation(self) -> float:
@@ -106,11 +118,17 @@ def choose_motor(axis: BeltAxis, profile: Trapezoid, motors: list[Motor], effici
             "or the gear ratio",
             param="speed",
         )
-    checks = sorted((check_motor(axis, profile, m, efficiency, ratio_limit, peak_margin) for m in motors),
-                    key=lambda c: (c.motor.T_n, c.motor.J, c.motor.name))
+    checks = [check_motor(axis, profile, m, efficiency, ratio_limit, peak_margin) for m in motors]
+    return recommend(checks)
+
+
+def recommend(checks: Sequence[MotorCheck]) -> Choice:
+    """The recommendation among checked motors (the rules of the module docstring)."""
+    checks = sorted(checks, key=lambda c: (c.motor.T_n, c.motor.J, c.motor.name))
     passing = [c for c in checks if c.ok]
     if not passing:
-        return Choice(tuple(checks), None, "no motor of the catalog passes all four checks")
+        n = "five" if any(c.zone is not None for c in checks) else "four"
+        return Choice(tuple(checks), None, f"no motor of the catalog passes all {n} checks")
     in_band = [c for c in passing if c.in_band]
     if in_band:
         return Choice(tuple(checks), in_band[0],
@@ -120,3 +138,79 @@ def choose_motor(axis: BeltAxis, profile: Trapezoid, motors: list[Motor], effici
     return Choice(tuple(checks), best,
                   f"smallest motor that passes; none runs at 50-100 % of its rated torque "
                   f"(this one: {best.utilisation:.0%})")
+
+
+# --- duty cycles: torque-speed zones ----------------------------------------------------------
+
+def intermittent_zone(motor: Motor, end_fraction: float | None = None) -> tuple[tuple[tuple[float, float], ...], bool]:
+    """The motor's intermittent (peak) torque-speed zone and whether it is assumed.
+
+    The catalog's ``intermittent`` points when it has them; otherwise the assumption of
+    :func:`beltcalc.dutycycle.assumed_zone`: T_max flat up to the rated speed, then
+    linear down to ``end_fraction`` x T_max at the maximum speed (``None``: down to the
+    rated torque T_n). Servo data sheets (e.g. Yaskawa Sigma-7, "Torque-Motor Speed
+    Characteristics") show the intermittent zone flat at T_max up to a corner speed at or
+    above the rated speed, then falling with the supply voltage's limit towards n_max;
+    the straight line from (n_rated, T_max) to (n_max, T_n) is a stated assumption, not
+    data, and the output says so.
+    """
+    own = getattr(motor, "intermittent", ())
+    if own:
+        return tuple(own), False
+    from beltcalc.dutycycle import assumed_zone
+
+    end = motor.T_n if end_fraction is None else end_fraction * motor.T_max
+    return assumed_zone(motor.T_max, end, motor.n_rated, motor.n_max), True
+
+
+def check_cycle(drive: "Drive", segments: "Sequence[Segment]", motor: Motor, efficiency: float,
+                ratio_limit: float = 10.0, peak_margin: float = 0.0,
+                end_fraction: float | None = None) -> MotorCheck:
+    """A duty cycle driven by ``motor``: peak, RMS (or the continuous zone at the mean
+    speed), speed, inertia ratio and every point against the intermittent zone.
+
+    The inertia ratio is the load's (the largest payload of the cycle, through the
+    gearbox, with the gearbox's own inertia) over the rotor's.
+    """
+    from beltcalc.dutycycle import cycle_duty, zone_check, zone_limit
+
+    eta = motor.efficiency if motor.efficiency is not None else efficiency
+    b_m = motor_damping(eta, motor.T_n, motor.n_rated)
+    d: CycleDuty = cycle_duty(drive, segments, motor.J, b_m)
+    points, assumed = intermittent_zone(motor, end_fraction)
+    cont = getattr(motor, "continuous", ())
+    limit = zone_limit(tuple(cont), d.mean_speed) if cont else motor.T_n
+    ratio = drive.load_inertia(segments) / motor.J
+    return MotorCheck(
+        motor=motor, duty=d, inertia_ratio=ratio,
+        peak_ok=d.peak_torque * (1.0 + peak_margin) <= motor.T_max,
+        rms_ok=d.rms_torque <= limit,
+        speed_ok=d.peak_speed <= motor.n_max,
+        inertia_ok=ratio <= ratio_limit,
+        zone=zone_check(d, points, peak_margin), zone_points=points, zone_assumed=assumed,
+        continuous_limit=limit,
+    )
+
+
+def choose_for_cycle(drive: "Drive", segments: "Sequence[Segment]", motors: list[Motor], efficiency: float,
+                     ratio_limit: float = 10.0, peak_margin: float = 0.0,
+                     end_fraction: float | None = None) -> Choice:
+    """:func:`choose_motor` for a duty cycle: the same rules, and the zone check too.
+
+    Raises :class:`InputError` (param ``speed``) when the cycle is faster than every
+    motor's maximum speed.
+    """
+    require_positive("inertia_ratio_limit", ratio_limit, "")
+    require_range("peak_margin", peak_margin, "", low=0.0)
+    if end_fraction is not None:
+        require_range("zone_end", end_fraction, "", 0.0, 1.0)
+    if not motors:
+        raise InputError("no motors to choose from", param="motors")
+    checks = [check_cycle(drive, segments, m, efficiency, ratio_limit, peak_margin, end_fraction) for m in motors]
+    fastest = max(m.n_max for m in motors)
+    top = checks[0].duty.peak_speed
+    if top > fastest:
+        raise InputError(
+            f"{top * 30 / math.pi:.0f} rpm at the motor is over every motor's maximum speed (the fastest "
+            f"runs {fastest * 30 / math.pi:.0f} rpm); lower --speed or the gear ratio", param="speed")
+    return recommend(checks)

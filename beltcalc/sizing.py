@@ -7,15 +7,18 @@ inertia, losses, torque), :mod:`beltcalc.profiles` (motion) and :mod:`beltcalc.m
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Callable, Iterable
 
 from beltcalc import belt as bm
 from beltcalc.catalogs import BeltProfile, Motor
 from beltcalc.drive import BeltAxis, Duty, cylinder_inertia, duty
-from beltcalc.errors import InputError, require_positive
-from beltcalc.motors import Choice, MotorCheck, check_motor, choose_motor
-from beltcalc.profiles import Trapezoid, trapezoid
+from beltcalc.dutycycle import (Drive, Gearbox, Mounting, Regeneration, Segment, capacitor_energy,
+                                regeneration)
+from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.motors import Choice, MotorCheck, check_cycle, check_motor, choose_for_cycle, choose_motor
+from beltcalc.profiles import Trapezoid, move_by_time, scurve, trapezoid
 
 
 @dataclass(frozen=True)
@@ -185,3 +188,248 @@ def energy_eq29_closed_form(inertia: float, damping: float, resistance_torque: f
     """
     return inertia * speed ** 2 + (damping * speed + resistance_torque) * speed ** 2 / accel
 
+
+
+# --- duty cycles (issue 14): S-curves, several segments, inclines, zones, regeneration -----------
+
+@dataclass(frozen=True)
+class MoveSpec:
+    """One segment of a cycle as the designer gives it, SI. ``kind`` "move" or "dwell".
+
+    A move: ``distance`` [m] of carriage travel, ``direction`` +1/-1, and either the
+    limits ``speed``/``accel``/``jerk`` as ``(value, unit)`` with unit "rad/s" (motor) or
+    "m/s" (carriage) etc. (None: the cycle's defaults; ``jerk`` None: a trapezoid), or
+    ``time`` [s] with ``accel_fraction`` T_a/T and ``jerk_fraction`` T_j/T_a. A dwell:
+    ``time`` [s]. ``payload`` [kg] and ``force`` [N] as :class:`beltcalc.dutycycle.Segment`.
+    """
+
+    kind: str
+    name: str = ""
+    distance: float = 0.0
+    direction: int = 1
+    time: float | None = None
+    speed: tuple[float, str] | None = None
+    accel: tuple[float, str] | None = None
+    jerk: tuple[float, str] | None = None
+    accel_fraction: float = 1.0 / 3.0
+    jerk_fraction: float = 0.0
+    payload: float = 0.0
+    force: float = 0.0
+
+
+@dataclass(frozen=True)
+class DutyOptions:
+    """What a duty cycle adds to :class:`SizingInputs`, SI. ``jerk`` (value, unit "rad/s^3"
+    or "m/s^3") makes the single move an S-curve; ``move_time`` gives it by time instead of
+    speed and acceleration; ``cycle`` replaces it by these segments (``speed``/``accel``/
+    ``jerk`` of the inputs are their defaults). ``incline`` [rad], ``counterweight`` [kg],
+    ``brake``; gearbox efficiency driving / back-driven and the catalog gearbox (its ratio and
+    inertia replace the inputs'); DC bus: ``dc_bus_capacitance`` [F], ``dc_bus_voltage`` and
+    ``chopper_voltage`` [V]; ``regen_efficiency``; ``zone_end``: the assumed zone's torque
+    at n_max as a fraction of T_max (None: the rated torque)."""
+
+    jerk: tuple[float, str] | None = None
+    move_time: float | None = None
+    accel_fraction: float = 1.0 / 3.0
+    jerk_fraction: float = 0.0
+    cycle: tuple[MoveSpec, ...] | None = None
+    cycle_title: str = ""
+    incline: float = 0.0
+    counterweight: float = 0.0
+    brake: bool = False
+    gear_efficiency: float = 1.0
+    gear_efficiency_back: float | None = None
+    gearbox: Gearbox | None = None
+    dc_bus_capacitance: float | None = None
+    dc_bus_voltage: float | None = None
+    chopper_voltage: float | None = None
+    regen_efficiency: float = 1.0
+    zone_end: float | None = None
+
+
+@dataclass(frozen=True)
+class GearboxCheck:
+    name: str
+    value: float
+    limit: float
+    unit: str
+
+    @property
+    def ok(self) -> bool:
+        return self.value <= self.limit
+
+
+@dataclass(frozen=True)
+class CycleSizing:
+    """A duty cycle sized: the axis, the drive, the segments at the motor shaft, the choice,
+    the reported motor's regeneration, the gearbox checks, warnings and assumptions."""
+
+    axis: BeltAxis
+    drive: Drive
+    segments: tuple[Segment, ...]
+    choice: Choice
+    shown: MotorCheck | None
+    substitute_mass: float
+    regen: Regeneration | None
+    gearbox_checks: tuple[GearboxCheck, ...]
+    warnings: tuple[str, ...]
+    assumptions: tuple[str, ...]
+
+    @property
+    def first_move(self) -> Segment:
+        return next(s for s in self.segments if s.kind == "move")
+
+
+def _at_motor(value: tuple[float, str], k: float, motor_unit: str, param: str) -> float:
+    v, unit = value
+    require_positive(param, v, unit)
+    return v if unit == motor_unit else v / k
+
+
+def move_profile(spec: MoveSpec, axis: BeltAxis, defaults: SizingInputs, default_jerk=None) -> Trapezoid:
+    """The profile of a move at the motor shaft (magnitudes; the direction is the segment's)."""
+    k = axis.carriage_per_motor()
+    require_positive("stroke", spec.distance, "m")
+    angle = axis.motor_angle(spec.distance)
+    if spec.time is not None:
+        return move_by_time(angle, spec.time, spec.accel_fraction, spec.jerk_fraction)
+    speed = _at_motor(spec.speed or (defaults.speed, defaults.speed_unit), k, "rad/s", "speed")
+    accel = _at_motor(spec.accel or (defaults.accel, defaults.accel_unit), k, "rad/s^2", "accel")
+    jerk = spec.jerk or default_jerk
+    if jerk is None:
+        return trapezoid(speed, accel, angle)
+    return scurve(speed, accel, _at_motor(jerk, k, "rad/s^3", "jerk"), angle)
+
+
+def cycle_segments(inp: SizingInputs, axis: BeltAxis, opts: DutyOptions) -> tuple[Segment, ...]:
+    """The cycle at the motor shaft: the segments of ``opts.cycle``, or the single move of
+    the inputs (stroke, speed/accel/jerk or move time) and its dwell."""
+    if opts.cycle is None:
+        spec = MoveSpec("move", "move", distance=inp.stroke, time=opts.move_time,
+                        accel_fraction=opts.accel_fraction, jerk_fraction=opts.jerk_fraction)
+        if opts.move_time is None and opts.jerk is None:
+            prof = motor_profile(inp, axis)           # today's trapezoid, unchanged
+        else:
+            prof = move_profile(spec, axis, inp, opts.jerk)
+        require_range("dwell", inp.dwell, "s", low=0.0)
+        segs = [Segment("move", "move", profile=prof)]
+        if inp.dwell > 0:
+            segs.append(Segment("dwell", "dwell", duration=inp.dwell))
+        return tuple(segs)
+    if not opts.cycle:
+        raise InputError("the cycle has no segments", param="cycle")
+    if len(opts.cycle) > 10000:
+        raise InputError(f"{len(opts.cycle)} segments; at most 10000", param="cycle")
+    out = []
+    for n, spec in enumerate(opts.cycle, start=1):
+        name = spec.name or f"{spec.kind} {n}"
+        try:
+            if spec.kind == "dwell":
+                if spec.time is None:
+                    raise InputError("a dwell needs a time", param="cycle")
+                out.append(Segment(name, "dwell", duration=spec.time, payload=spec.payload, force=spec.force))
+            else:
+                prof = move_profile(spec, axis, inp, opts.jerk)
+                out.append(Segment(name, "move", profile=prof, direction=spec.direction, payload=spec.payload,
+                                   force=spec.force))
+        except InputError as exc:
+            raise InputError(f"segment {n} ({name}): {exc}", param="cycle") from None
+    return tuple(out)
+
+
+def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor: Motor | None = None,
+               opts: DutyOptions = DutyOptions()) -> CycleSizing:
+    """Reflected inertia, the duty cycle's torque and energy, the motor choice against the
+    torque-speed zones, the gearbox checks and the braking resistor.
+
+    With the default ``opts`` it is today's single trapezoidal move, horizontally, through
+    an ideal gearbox: the same numbers as :func:`size_axis` (to rounding).
+
+    >>> from beltcalc.catalogs import load_catalog
+    >>> cat = load_catalog()
+    >>> inp = SizingInputs(mass=50.0, width=0.025, center_distance=1.245, pulley_teeth=40,
+    ...     pulley_width=0.03, pulley_bore=0.02, pulley_density=2700.0, coupling_inertia=2e-5,
+    ...     gearbox_inertia=1e-5, gear_ratio=20.0, belt_ratio=1.0, resistance=0.0,
+    ...     guide_friction=0.002, guide_damping=0.0, bearing_damping=0.0, motor_efficiency=0.9,
+    ...     speed=314.159, speed_unit="rad/s", accel=10.0, accel_unit="m/s^2", stroke=1.0, dwell=0.5)
+    >>> s = size_cycle(inp, cat.belt("AT10"), list(cat.motors.values()))
+    >>> s.choice.selected.motor.name, round(s.shown.duty.peak_torque, 4)
+    ('SGM7J-06A', 2.1014)
+    """
+    gb_cat = opts.gearbox
+    if gb_cat is not None:
+        inp = replace(inp, gear_ratio=gb_cat.ratio, gearbox_inertia=gb_cat.inertia)
+    axis, m_tb = build_axis(inp, belt)
+    if gb_cat is not None:
+        gearbox = replace(gb_cat, efficiency=gb_cat.efficiency if opts.gear_efficiency == 1.0 else opts.gear_efficiency,
+                          efficiency_back=opts.gear_efficiency_back if opts.gear_efficiency_back is not None
+                          else gb_cat.efficiency_back)
+    else:
+        gearbox = Gearbox(inp.gear_ratio, inp.gearbox_inertia, opts.gear_efficiency, opts.gear_efficiency_back)
+    drive = Drive(axis, Mounting(opts.incline, opts.counterweight, opts.brake), gearbox)
+    segments = cycle_segments(inp, axis, opts)
+    choice = choose_for_cycle(drive, segments, motors, inp.motor_efficiency, inp.inertia_ratio_limit,
+                              inp.peak_margin, opts.zone_end)
+    shown = choice.selected
+    if motor is not None:
+        shown = next((c for c in choice.checks if c.motor is motor), None) or check_cycle(
+            drive, segments, motor, inp.motor_efficiency, inp.inertia_ratio_limit, inp.peak_margin, opts.zone_end)
+    warnings, assumptions = [], []
+    regen = None
+    bus = (opts.dc_bus_capacitance, opts.dc_bus_voltage, opts.chopper_voltage)
+    if shown is not None:
+        stored = capacitor_energy(*bus) if bus[0] is not None else None
+        regen = regeneration(shown.duty, stored, opts.regen_efficiency, opts.chopper_voltage)
+        if shown.zone_assumed:
+            end = "the rated torque T_n" if opts.zone_end is None else f"{opts.zone_end:g} x T_max"
+            assumptions.append(f"{shown.motor.name}: the catalog has no torque-speed curve; intermittent zone "
+                               f"assumed flat at T_max up to the rated speed, then falling linearly to {end} "
+                               "at the maximum speed")
+        if shown.zone is not None and not shown.zone.ok:
+            z = shown.zone
+            warnings.append(f"{shown.motor.name}: the torque {abs(z.torque):.3g} N m at {z.speed * 30 / math.pi:.0f} "
+                            f"rpm (t = {z.time:.4g} s) is outside the intermittent zone ({z.limit:.3g} N m there)")
+        cont = getattr(shown.motor, "continuous", ())
+        if not cont and shown.duty.mean_speed > shown.motor.n_rated:
+            warnings.append(f"{shown.motor.name}: the mean speed {shown.duty.mean_speed * 30 / math.pi:.0f} rpm is "
+                            "above the rated speed and the catalog has no continuous zone; the RMS check against "
+                            "T_n is not safe there")
+        if stored is not None and regen.resistor_energy > 0:
+            warnings.append(f"braking returns up to {max(e for _, e, _ in regen.events):.3g} J per event, more than the "
+                            f"DC-bus capacitors store ({stored:.3g} J): a braking resistor of at least "
+                            f"{regen.resistor_power:.3g} W continuous, {regen.resistor_peak_power:.3g} W peak is needed")
+        if shown.duty.holding_torque > 0 and opts.incline != 0 and not opts.brake:
+            assumptions.append("at rest the motor holds the axis against gravity (no brake): the holding torque "
+                               "counts in the RMS")
+    gb_checks = []
+    if shown is not None:
+        d = shown.duty
+        if gearbox.max_input_speed is not None:
+            gb_checks.append(GearboxCheck("gearbox input speed", d.peak_speed, gearbox.max_input_speed, "rad/s"))
+        if gearbox.peak_torque is not None:
+            gb_checks.append(GearboxCheck("gearbox peak output torque", d.load_peak_torque * gearbox.ratio,
+                                          gearbox.peak_torque, "N m"))
+        if gearbox.rated_torque is not None:
+            gb_checks.append(GearboxCheck("gearbox RMS output torque", d.load_rms_torque * gearbox.ratio,
+                                          gearbox.rated_torque, "N m"))
+        for c in gb_checks:
+            if not c.ok:
+                warnings.append(f"{c.name} {c.value:.4g} {c.unit} is over the gearbox's {c.limit:.4g} {c.unit}")
+    return CycleSizing(axis=axis, drive=drive, segments=segments, choice=choice, shown=shown,
+                       substitute_mass=m_tb, regen=regen, gearbox_checks=tuple(gb_checks),
+                       warnings=tuple(warnings), assumptions=tuple(assumptions))
+
+
+def first_move_energy(s: CycleSizing) -> tuple[float, float, float]:
+    """(t_a, E_29 = T_max w_max t_a, exact integral of T w over the first move's
+    acceleration) of the reported motor [s, J, J] (eq. 29 of Wojtkowiak et al. 2021)."""
+    from beltcalc.dutycycle import _pint, _pmul
+    from beltcalc.profiles import ACCEL_PHASES
+
+    seg_index = next(k for k, seg in enumerate(s.segments) if seg.kind == "move")
+    prof = s.segments[seg_index].profile
+    d = s.shown.duty
+    t_a = prof.accel_time
+    exact = sum(_pint(_pmul(p.torque, p.w), p.duration) for p in d.pieces
+                if p.segment == seg_index and p.phase in ACCEL_PHASES)
+    return t_a, d.peak_torque * prof.peak_speed * t_a, exact

@@ -7,8 +7,8 @@ import math
 
 import click
 
-from beltcalc.cli.options import (OutputPath, SceneParam, catalog_option, output_options, resolve_scene,
-                                  scene_options)
+from beltcalc.cli.options import (OutputPath, SceneParam, catalog_option, output_options, quantity_option,
+                                  resolve_scene, scene_options)
 from beltcalc.cli.output import (Row, console, format_number, print_table, progress, require_matplotlib,
                                  table_csv, write_atomic)
 from beltcalc.errors import InputError, UnknownNameError
@@ -77,6 +77,36 @@ def _sweep_spec(text: str | None):
 @scene_options(PARAMS)
 @click.option("--substitute-mass-model", type=click.Choice(["eq7", "rayleigh"]), default="eq7", show_default=True,
               help="m_TB by the paper's eq. 7, or the Rayleigh m_belt/3.")
+@quantity_option("--jerk", si_unit="rad/s^3|m/s^3",
+                 help="Jerk limit: the move becomes a 7-phase S-curve (at the motor 1e5rad/s^3 or the carriage 200m/s^3).")
+@quantity_option("--move-time", si_unit="s",
+                 help="Give the move by its time instead of --speed/--accel (see --accel-fraction, --jerk-fraction).")
+@quantity_option("--accel-fraction", si_unit="", default="0.333333333333333",
+                 help="With --move-time: acceleration time / move time (at most 0.5).")
+@quantity_option("--jerk-fraction", si_unit="", default="0",
+                 help="With --move-time: jerk time / acceleration time (0: trapezoid, at most 0.5).")
+@click.option("--cycle", "cycle_path", type=click.Path(exists=True, dir_okay=False, readable=True), default=None,
+              help="A duty-cycle file (TOML): moves and dwells with payload, force, direction (catalogs/cycles/).")
+@quantity_option("--incline", si_unit="rad", default="0deg",
+                 help="Angle of the axis above the horizontal (90deg: vertical, + is up).")
+@quantity_option("--counterweight", si_unit="kg", default="0kg", help="Counterweight balancing the carriage.")
+@click.option("--brake", is_flag=True, help="A holding brake holds the axis in every dwell (no motor torque there).")
+@quantity_option("--gear-efficiency", si_unit="", default=None,
+                 help="Gearbox efficiency when the motor drives [default: 1, or the --gearbox's].")
+@quantity_option("--gear-efficiency-back", si_unit="", default=None,
+                 help="Gearbox efficiency when the load drives the motor [default: as driving].")
+@click.option("--gearbox", "gearbox_name", default=None,
+              help="A gearbox from a gearbox catalog: its ratio and inertia replace --gear-ratio/--gearbox-inertia.")
+@click.option("--gearbox-catalog", "gearbox_files", multiple=True,
+              type=click.Path(exists=True, dir_okay=False, readable=True),
+              help="A gearbox catalog file (TOML, [[gearboxes]]); repeatable.")
+@quantity_option("--dc-bus-capacitance", si_unit="F", help="Drive's DC-bus capacitance (with the two voltages).")
+@quantity_option("--dc-bus-voltage", si_unit="V", help="DC-bus voltage at rest (about 1.41 x mains).")
+@quantity_option("--chopper-voltage", si_unit="V", help="DC-bus voltage at which the braking resistor switches in.")
+@quantity_option("--regen-efficiency", si_unit="", default="1",
+                 help="Share of the braking energy that reaches the DC bus (1: all of it, the safe side).")
+@quantity_option("--zone-end", si_unit="", default=None,
+                 help="Assumed intermittent zone at n_max as a fraction of T_max [default: down to T_n].")
 @click.option("--motor", "motor_name", default=None, help="Report this motor (the choice is still made over all).")
 @click.option("--motors", "motor_files", default=None,
               help="Choose only among the motors of this catalog file (e.g. yaskawa).")
@@ -86,18 +116,27 @@ def _sweep_spec(text: str | None):
               help="Write a PNG: torque and speed over the cycle, or the sweep's curves (needs matplotlib).")
 @catalog_option
 @output_options
-def motor_size(scene, substitute_mass_model, motor_name, motor_files, sweep_text, plot_path,
-               catalog_paths, as_json, csv_path, **given):
+def motor_size(scene, substitute_mass_model, jerk, move_time, accel_fraction, jerk_fraction, cycle_path, incline,
+               counterweight, brake, gear_efficiency, gear_efficiency_back, gearbox_name, gearbox_files,
+               dc_bus_capacitance, dc_bus_voltage, chopper_voltage, regen_efficiency, zone_end, motor_name,
+               motor_files, sweep_text, plot_path, catalog_paths, as_json, csv_path, **given):
     """Motor torque, energy and motor choice for a timing-belt linear axis.
 
     With no options: the work-drive-unit axis of Wojtkowiak et al., Energies 14 (2021) 317
     (scene `wdu`; `--scene pdd` is the punching-die axis with F_R = 50 N). The scene
     states every value it assumes; `--json` lists them with their reasons.
+
+    Duty cycles: an S-curve (--jerk), a move by time (--move-time), several moves and
+    dwells (--cycle FILE), inclined and vertical axes (--incline, --counterweight, --brake),
+    the gearbox's efficiency and ratings, the motor's torque-speed zone, and the braking
+    resistor (--dc-bus-capacitance with the two voltages).
     """
     from beltcalc.catalogs import load_catalog, load_scene
-    from beltcalc.sizing import SizingInputs, size_axis, sweep
+    from beltcalc.sizing import DutyOptions, SizingInputs, size_axis, size_cycle, sweep
 
     spec = _sweep_spec(sweep_text)
+    _check_combinations(given, jerk, move_time, cycle_path, spec, incline, counterweight, brake, gear_efficiency,
+                        gear_efficiency_back, gearbox_name, (dc_bus_capacitance, dc_bus_voltage, chopper_voltage))
     if plot_path is not None:
         require_matplotlib()
     cat = load_catalog(catalog_paths)
@@ -111,9 +150,9 @@ def motor_size(scene, substitute_mass_model, motor_name, motor_files, sweep_text
     accel, accel_unit = fields.pop("accel")
     inp = SizingInputs(**fields, speed=speed, speed_unit=speed_unit, accel=accel, accel_unit=accel_unit,
                        substitute_mass_model=substitute_mass_model)
-    sizing = size_axis(inp, belt, motors, chosen)
 
     if spec is not None:
+        sizing = size_axis(inp, belt, motors, chosen)
         name, points, unit = spec
         motor = sizing.shown.motor if sizing.shown else None
         with progress(len(points), f"sweep {name}", enabled=not as_json and len(points) >= 20) as advance:
@@ -121,18 +160,72 @@ def motor_size(scene, substitute_mass_model, motor_name, motor_files, sweep_text
         _render_sweep(name, unit, rows, motor, as_json, csv_path, plot_path)
         return
 
+    cycle = None
+    if cycle_path is not None:
+        from beltcalc.cyclefile import load_cycle
+
+        cycle = load_cycle(cycle_path)
+    gb = None
+    if gearbox_name is not None:
+        from beltcalc.gearboxes import gearbox
+
+        gb = gearbox(gearbox_name, gearbox_files)
+    opts = DutyOptions(
+        jerk=jerk, move_time=move_time, accel_fraction=accel_fraction, jerk_fraction=jerk_fraction,
+        cycle=cycle.segments if cycle else None, cycle_title=cycle.title if cycle else "",
+        incline=incline, counterweight=counterweight, brake=brake,
+        gear_efficiency=1.0 if gear_efficiency is None else gear_efficiency,
+        gear_efficiency_back=gear_efficiency_back, gearbox=gb, dc_bus_capacitance=dc_bus_capacitance,
+        dc_bus_voltage=dc_bus_voltage, chopper_voltage=chopper_voltage, regen_efficiency=regen_efficiency,
+        zone_end=zone_end)
+    sizing = size_cycle(inp, belt, motors, chosen, opts)
+
     sections, rows = _sections(sizing)
     if csv_path is not None:
         write_atomic(csv_path, _profile_csv(sizing))
     if plot_path is not None:
         _plot_profile(sizing, plot_path)
+    for w in sizing.warnings:
+        click.echo(f"warning: {w}", err=True)
     if as_json:
         click.echo(_json(sizing, rows, values))
     else:
-        _print(sizing, sections, values, scene_def.title)
+        _print(sizing, sections, values, scene_def.title + (f"; cycle: {cycle.title}" if cycle else ""))
     if sizing.choice.selected is None:
         raise InputError(f"no motor fits: {sizing.choice.reason} (see the table); lower --accel or --speed, "
                          "change --gear-ratio, or add motors with --catalog", param=None)
+
+
+def _check_combinations(given, jerk, move_time, cycle_path, sweep, incline, counterweight, brake, eff, eff_back,
+                        gearbox_name, bus) -> None:
+    """Option combinations that make no sense are usage errors (exit 2)."""
+    def bad(option, why):
+        raise click.BadParameter(why, param_hint=option)
+
+    if move_time is not None:
+        for name in ("speed", "accel"):
+            if given.get(name) is not None:
+                bad(f"--{name}", f"--move-time gives the move by its time; leave out --{name}")
+        if jerk is not None:
+            bad("--jerk", "--move-time gives the move by its time; use --jerk-fraction instead of --jerk")
+    if cycle_path is not None:
+        for name in ("stroke", "dwell"):
+            if given.get(name) is not None:
+                bad(f"--{name}", f"--cycle gives every move and dwell; leave out --{name}")
+        if move_time is not None:
+            bad("--move-time", "--cycle gives every move; give time = ... per move in the cycle file")
+    if sweep is not None:
+        extra = [n for n, v in (("--jerk", jerk), ("--move-time", move_time), ("--cycle", cycle_path),
+                                ("--gearbox", gearbox_name), ("--gear-efficiency", eff),
+                                ("--gear-efficiency-back", eff_back), ("--dc-bus-capacitance", bus[0]))
+                 if v is not None] + (["--brake"] if brake else []) + (["--incline"] if incline else []) \
+            + (["--counterweight"] if counterweight else [])
+        if extra:
+            bad("--sweep", f"sweeps are of the single horizontal trapezoid; leave out {extra[0]}")
+    names = ("--dc-bus-capacitance", "--dc-bus-voltage", "--chopper-voltage")
+    if any(v is not None for v in bus) and not all(v is not None for v in bus):
+        missing = [n for n, v in zip(names, bus) if v is None]
+        bad(missing[0], f"the DC bus needs all three of {', '.join(names)}")
 
 
 # --- helpers ---------------------------------------------------------------------------------
@@ -151,105 +244,231 @@ def _motor_list(cat, files: str | None):
     return picked
 
 
+def _rpm(w: float) -> str:
+    return f"{w * 30 / math.pi:.0f} rpm"
+
+
 def _sections(s) -> tuple[list, list[Row]]:
-    ax, prof, shown = s.axis, s.profile, s.shown
+    from beltcalc.sizing import first_move_energy
+
+    ax, shown = s.axis, s.shown
+    move = s.first_move
+    prof = move.profile
+    single = s.drive and len([g for g in s.segments if g.kind == "move"]) == 1
     motor_j = shown.motor.J if shown else 0.0
     parts = ax.inertia_parts()
-    total = ax.load_inertia_total + motor_j
+    load_j = s.drive.load_inertia(s.segments)
     k = ax.carriage_per_motor()
+    cycle_time = sum(g.time for g in s.segments)
+    peak_speed = max(p.peak_speed for p in (g.profile for g in s.segments if g.kind == "move"))
+    accel = getattr(prof, "peak_accel", 0.0) or prof.accel
     motion = [
         Row("pulley_diameter", "pulley pitch diameter D", ax.pulley_diameter, "m", "mm"),
-        Row("gear_ratio", "gear ratio i", ax.gear_ratio, "1"),
-        Row("motor_speed", "peak motor speed", prof.peak_speed, "rad/s", "rpm",
-            note="triangular: speed not reached" if prof.triangular else ""),
-        Row("carriage_speed", "peak carriage speed", prof.peak_speed * k, "m/s"),
-        Row("motor_accel", "motor acceleration", prof.accel, "rad/s^2"),
-        Row("carriage_accel", "carriage acceleration", prof.accel * k, "m/s^2"),
-        Row("cycle_time", "cycle time", prof.cycle_time, "s"),
+        Row("gear_ratio", "gear ratio i", ax.gear_ratio, "1",
+            note=s.drive.gearbox.name if s.drive.gearbox.name else ""),
+        Row("motor_speed", "peak motor speed", peak_speed, "rad/s", "rpm",
+            note="triangular: speed not reached" if single and prof.triangular else ""),
+        Row("carriage_speed", "peak carriage speed", peak_speed * k, "m/s"),
+        Row("motor_accel", "motor acceleration" + ("" if single else " (first move)"), accel, "rad/s^2"),
+        Row("carriage_accel", "carriage acceleration" + ("" if single else " (first move)"), accel * k, "m/s^2"),
     ]
+    if math.isfinite(getattr(prof, "jerk", math.inf)):
+        motion.append(Row("motor_jerk", "motor jerk limit" + ("" if single else " (first move)"), prof.jerk,
+                          "rad/s^3", note="S-curve"))
+    motion.append(Row("cycle_time", "cycle time", cycle_time, "s"))
+    mt = s.drive.mounting
+    if mt.incline != 0:
+        motion.append(Row("incline", "incline", mt.incline, "rad", "deg", note="brake holds in dwells" if mt.brake else ""))
+    if mt.counterweight:
+        motion.append(Row("counterweight", "counterweight", mt.counterweight, "kg"))
     inertia = [Row("inertia_motor", f"motor rotor ({shown.motor.name if shown else 'none'})", motor_j,
                    "kg m^2", "kg*cm^2")]
     inertia += [Row("inertia_" + n.replace(" ", "_"), n, v, "kg m^2", "kg*cm^2") for n, v in parts.items()]
     inertia += [
-        Row("reflected_inertia", "reflected inertia J_red", total, "kg m^2", "kg*cm^2", note="at the motor shaft"),
+        Row("reflected_inertia", "reflected inertia J_red", load_j + motor_j, "kg m^2", "kg*cm^2",
+            note="at the motor shaft" + ("" if single and not mt.counterweight else "; largest payload, counterweight")),
         Row("inertia_ratio", "load / motor inertia", shown.inertia_ratio if shown else math.nan, "1", digits=3),
     ]
     rows = motion + inertia
     if shown is None:
         return [("motion", motion), ("reflected inertia", inertia)], rows
     d = shown.duty
-    torque = [Row(f"torque_{p.name}", f"{p.name} ({p.duration:.3g} s)", p.torque1 if p.name == "accelerate" else p.torque0,
-                  "N m", digits=3, note=f"{format_number(p.torque0, 3)} -> {format_number(p.torque1, 3)} N m")
-              for p in d.phases]
+    torque = []
+    if single:
+        torque += [Row(f"torque_{p.name}", f"{p.name} ({p.duration:.3g} s)",
+                       p.torque1 if p.name == "accelerate" else p.torque0, "N m", digits=3,
+                       note=f"{format_number(p.torque0, 3)} -> {format_number(p.torque1, 3)} N m")
+                   for p in d.phases]
+    t_a, e29, exact = first_move_energy(s)
+    m = shown.motor
     torque += [
-        Row("peak_torque", "peak torque", d.peak_torque, "N m", digits=3, note=f"T_max {shown.motor.T_max:g} N m"),
+        Row("peak_torque", "peak torque", d.peak_torque, "N m", digits=3, note=f"T_max {m.T_max:g} N m"),
         Row("rms_torque", "RMS torque", d.rms_torque, "N m", digits=3,
-            note=f"T_n {shown.motor.T_n:g} N m: {shown.utilisation:.0%}"),
+            note=f"limit {format_number(shown.continuous_limit, 3)} N m: {shown.utilisation:.0%} of T_n"),
+        Row("mean_speed", "mean speed", d.mean_speed, "rad/s", "rpm", note=f"rated {_rpm(m.n_rated)}"),
         Row("peak_power", "peak power", d.peak_power, "W", digits=3),
+        Row("holding_torque", "holding torque at rest", d.holding_torque, "N m", digits=3),
         Row("braking_torque", "braking torque", d.braking_torque, "N m", digits=3,
             note="regenerative" if d.braking_torque < 0 else "none"),
         Row("braking_energy", "braking energy per cycle", d.braking_energy, "J", digits=3),
-        Row("accel_time", "acceleration time t_a", d.accel_time, "s", digits=3),
-        Row("accel_energy", "energy E = T_max w_max t_a", d.accel_energy, "J", digits=3, note="eq. 29"),
-        Row("accel_energy_exact", "energy, integral T w dt", d.accel_energy_exact, "J", digits=3,
-            note="acceleration phase, exact"),
+        Row("motoring_energy", "motoring energy per cycle", d.energy_motoring, "J", digits=3),
+        Row("accel_time", "acceleration time t_a", t_a, "s", digits=3, note="" if single else "first move"),
+        Row("accel_energy", "energy E = T_max w_max t_a", e29, "J", digits=3, note="eq. 29"),
+        Row("accel_energy_exact", "energy, integral T w dt", exact, "J", digits=3,
+            note="acceleration phase, exact" if single else "first move's acceleration, exact"),
     ]
-    return [("motion", motion), ("reflected inertia", inertia), (f"torque ({shown.motor.name})", torque)], rows + torque
+    z = shown.zone
+    zone = [Row("zone_margin", "smallest margin to the peak zone", z.margin, "N m", digits=3,
+                note=f"{s.segments[z.segment].name}/{z.phase}, t = {z.time:.4g} s, {_rpm(z.speed)}: "
+                     f"|T| {format_number(abs(z.torque), 3)} vs {format_number(z.limit, 3)} N m"
+                     + (" (assumed zone)" if shown.zone_assumed else ""))] if z and z.segment >= 0 else []
+    regen = []
+    r = s.regen
+    if r is not None:
+        if r.stored is not None:
+            regen.append(Row("dc_bus_energy", "DC-bus capacitors store", r.stored, "J", digits=3, note="per event"))
+        regen += [
+            Row("resistor_energy", "braking resistor energy per cycle", r.resistor_energy, "J", digits=3),
+            Row("resistor_power", "braking resistor, continuous", r.resistor_power, "W", digits=3),
+            Row("resistor_peak_power", "braking resistor, peak", r.resistor_peak_power, "W", digits=3),
+        ]
+        if r.resistance_max is not None:
+            regen.append(Row("resistance_max", "resistance at most", r.resistance_max, "ohm", digits=3,
+                             note="U_chopper^2 / P_peak"))
+    gear = [Row(c.name.replace(" ", "_"), c.name, c.value, c.unit if c.unit != "rad/s" else "rad/s",
+                "rpm" if c.unit == "rad/s" else "", digits=4,
+                note=f"limit {format_number(c.limit * (30 / math.pi if c.unit == 'rad/s' else 1), 4)}"
+                     f"{' rpm' if c.unit == 'rad/s' else ' ' + c.unit}: {'ok' if c.ok else 'FAIL'}")
+            for c in s.gearbox_checks]
+    sections = [("motion", motion), ("reflected inertia", inertia), (f"torque ({m.name})", torque)]
+    if zone:
+        sections.append(("torque-speed zone", zone))
+    if regen:
+        sections.append(("regeneration", regen))
+    if gear:
+        sections.append(("gearbox", gear))
+    return sections, rows + torque + zone + regen + gear
 
 
 def _print(s, sections, values, title) -> None:
     from rich.table import Table
 
     print_table(f"Motor sizing: {title}", sections)
+    out = console(140)
+    if s.shown is not None and (len(s.segments) > 2 or any(g.kind == "move" and g.profile.phases[0].jerk
+                                                              for g in s.segments) or len(s.segments) == 1):
+        seg = Table(title=f"segments ({s.shown.motor.name})", title_justify="left")
+        for col in ("segment", "kind", "t s", "peak N m", "RMS N m", "peak rpm", "E in J", "E back J"):
+            seg.add_column(col, justify="left" if col in ("segment", "kind") else "right")
+        for g in s.shown.duty.segments:
+            seg.add_row(g.name, g.kind, format_number(g.duration, 4), format_number(g.peak_torque, 3),
+                        format_number(g.rms_torque, 3), format_number(g.peak_speed * 30 / math.pi, 4),
+                        format_number(g.energy_motoring, 3), format_number(g.energy_braking, 3))
+        out.print(seg)
+    if s.shown is not None:
+        ph = Table(title="time at each torque (phases; torque at the start -> end)", title_justify="left")
+        for col in ("segment", "phase", "t s", "T start N m", "T end N m", "|T| max N m", "RMS N m"):
+            ph.add_column(col, justify="left" if col in ("segment", "phase") else "right")
+        for p in s.shown.duty.phases:
+            ph.add_row(p.segment_name, p.name, format_number(p.duration, 4), format_number(p.torque0, 4),
+                       format_number(p.torque1, 4), format_number(p.peak, 4), format_number(p.rms, 4))
+        out.print(ph)
     table = Table(title="motor choice (smallest rated torque first)", title_justify="left")
-    for col in ("motor", "T_n N m", "T_max N m", "J kg cm^2", "peak", "RMS", "speed", "J ratio", "RMS/T_n", ""):
+    for col in ("motor", "T_n N m", "T_max N m", "J kg cm^2", "peak", "RMS", "speed", "zone", "J ratio",
+                "RMS/T_n", ""):
         table.add_column(col, justify="right" if "N m" in col or "J" in col else "left")
     for c in s.choice.checks:
         mark = lambda ok: "ok" if ok else "[red]FAIL[/red]"
         pick = "[bold green]<- selected[/bold green]" if c is s.choice.selected else ""
         table.add_row(c.motor.name, f"{c.motor.T_n:g}", f"{c.motor.T_max:g}", f"{c.motor.J * 1e4:g}",
-                      mark(c.peak_ok), mark(c.rms_ok), mark(c.speed_ok),
+                      mark(c.peak_ok), mark(c.rms_ok), mark(c.speed_ok), mark(c.zone_ok),
                       f"{c.inertia_ratio:.3g} " + ("" if c.inertia_ok else "[red]FAIL[/red]"),
                       f"{c.utilisation:.0%}", pick)
-    out = console()
     out.print(table)
     picked = s.choice.selected.motor.name if s.choice.selected else "none"
     out.print(f"recommended: {picked}: {s.choice.reason}", highlight=False, markup=False)
-    if s.profile.triangular:
+    if len(s.segments) <= 2 and s.first_move.profile.triangular:
         out.print("the stroke is too short to reach the speed: triangular profile", markup=False)
+    for a in s.assumptions:
+        out.print(f"assumed: {a}", markup=False, highlight=False)
     given = [f"{k}={v.text}" for k, v in values.items() if v.origin.startswith("option")]
     out.print("inputs: scene values (--json lists each with its reason)"
               + (f"; given: {', '.join(given)}" if given else ""), markup=False, highlight=False)
 
 
+def _q(value, unit):
+    return {"value": None if value is None or (isinstance(value, float) and not math.isfinite(value)) else value,
+            "unit": unit}
+
+
 def _json(s, rows, values) -> str:
-    obj = {r.key: {"value": (None if isinstance(r.value, float) and math.isnan(r.value) else r.value),
-                   "unit": r.unit} for r in rows}
+    obj = {r.key: _q(r.value, r.unit) for r in rows}
     for key in ("peak_torque", "rms_torque", "accel_time", "accel_energy", "accel_energy_exact", "peak_power"):
         obj.setdefault(key, {"value": None, "unit": ""})
     obj["selected_motor"] = s.choice.selected.motor.name if s.choice.selected else None
     obj["reported_motor"] = s.shown.motor.name if s.shown else None
     obj["reason"] = s.choice.reason
-    obj["triangular"] = s.profile.triangular
+    obj["triangular"] = s.first_move.profile.triangular
     obj["motors"] = [{
         "name": c.motor.name, "peak_torque": c.duty.peak_torque, "rms_torque": c.duty.rms_torque,
         "inertia_ratio": c.inertia_ratio, "utilisation": c.utilisation, "peak_ok": c.peak_ok,
-        "rms_ok": c.rms_ok, "speed_ok": c.speed_ok, "inertia_ok": c.inertia_ok, "ok": c.ok,
+        "rms_ok": c.rms_ok, "speed_ok": c.speed_ok, "inertia_ok": c.inertia_ok, "zone_ok": c.zone_ok,
+        "zone_margin": _q(c.zone.margin if c.zone else None, "N m"), "zone_assumed": c.zone_assumed,
+        "rms_limit": _q(c.continuous_limit, "N m"), "ok": c.ok,
     } for c in s.choice.checks]
+    if s.shown is not None:
+        d = s.shown.duty
+        obj["segments"] = [{
+            "name": g.name, "kind": g.kind, "start": _q(g.start, "s"), "duration": _q(g.duration, "s"),
+            "peak_torque": _q(g.peak_torque, "N m"), "rms_torque": _q(g.rms_torque, "N m"),
+            "peak_speed": _q(g.peak_speed, "rad/s"), "energy_motoring": _q(g.energy_motoring, "J"),
+            "energy_braking": _q(g.energy_braking, "J"),
+        } for g in d.segments]
+        obj["phases"] = [{
+            "segment": p.segment_name, "phase": p.name, "start": _q(p.start, "s"), "duration": _q(p.duration, "s"),
+            "speed0": _q(p.speed0, "rad/s"), "speed1": _q(p.speed1, "rad/s"), "torque0": _q(p.torque0, "N m"),
+            "torque1": _q(p.torque1, "N m"), "peak_torque": _q(p.peak, "N m"), "rms_torque": _q(p.rms, "N m"),
+        } for p in d.phases]
+        obj["braking_events"] = [{"start": _q(e.start, "s"), "end": _q(e.end, "s"), "energy": _q(e.energy, "J"),
+                                  "peak_power": _q(e.peak_power, "W")} for e in d.events]
+        z = s.shown.zone
+        obj["zone"] = {
+            "assumed": s.shown.zone_assumed, "source": getattr(s.shown.motor, "zone_source", ""),
+            "points": [{"speed": _q(w, "rad/s"), "torque": _q(t, "N m")} for w, t in s.shown.zone_points],
+            "margin": _q(z.margin, "N m"), "time": _q(z.time, "s"), "speed": _q(z.speed, "rad/s"),
+            "torque": _q(z.torque, "N m"), "limit": _q(z.limit, "N m"),
+            "segment": s.segments[z.segment].name if z.segment >= 0 else None, "phase": z.phase or None,
+        }
+    obj["gearbox"] = {"name": s.drive.gearbox.name or None, "source": s.drive.gearbox.source or None,
+                      "efficiency": s.drive.gearbox.efficiency, "efficiency_back": s.drive.gearbox.eta_back,
+                      "checks": [{"name": c.name, "value": _q(c.value, c.unit.replace(" ", " ")),
+                                  "limit": _q(c.limit, c.unit), "ok": c.ok} for c in s.gearbox_checks]}
+    obj["assumptions"] = list(s.assumptions)
+    obj["warnings"] = list(s.warnings)
     obj["inputs"] = {k: {"text": v.text, "origin": v.origin} for k, v in values.items()}
-    return json.dumps(obj, indent=2)
+    return json.dumps(obj, indent=2, allow_nan=False)
 
 
 def _profile_samples(s, per_phase: int = 21):
-    """(t, omega, omegadot, torque, power) through the cycle, both ends of every phase."""
-    d, t0, out = s.shown.duty, 0.0, []
-    for ph, pt in zip(s.profile.phases, d.phases):
+    """(t, omega, omegadot, torque, power) through the cycle, 21 points per phase, its
+    ends as the right limit at the start and the left limit at the end (exact values)."""
+    from beltcalc.dutycycle import _pval
+
+    d, out = s.shown.duty, []
+    by_phase: dict[tuple[int, float], list] = {}
+    for p in d.pieces:
+        by_phase.setdefault(p.segment, []).append(p)
+    for ph in d.phases:
+        pieces = [p for p in by_phase[ph.segment] if ph.start - 1e-12 <= p.start < ph.start + ph.duration - 1e-15]
         for j in range(per_phase):
-            x = j / (per_phase - 1)
-            w = ph.speed0 + ph.accel * ph.duration * x
-            tq = pt.torque0 + x * (pt.torque1 - pt.torque0)
-            out.append((t0 + x * ph.duration, w, ph.accel, tq, tq * w))
-        t0 += ph.duration
+            t = ph.start + ph.duration * j / (per_phase - 1)
+            piece = pieces[-1] if j == per_phase - 1 else next(
+                (p for p in pieces if p.start <= t < p.start + p.duration), pieces[-1])
+            tau = min(max(t - piece.start, 0.0), piece.duration)
+            w = _pval(piece.w, tau)
+            wd = piece.w[1] + 2 * piece.w[2] * tau
+            tq = _pval(piece.torque, tau)
+            out.append((t, w, wd, tq, tq * w))
     return out
 
 

@@ -1,0 +1,142 @@
+"""Duty-cycle files (TOML) for ``beltcalc motor-size --cycle``: loaded and converted to SI once.
+
+A cycle file has a ``[cycle]`` table (``title``; optional defaults ``speed``, ``accel``,
+``jerk`` for every move) and one ``[[segment]]`` table per move or dwell, in order::
+
+    [cycle]
+    title = "Pick and place on a vertical axis"
+    speed = "1 m/s"            # at the carriage (m/s) or the motor (rpm, rad/s)
+    accel = "5 m/s^2"
+    jerk = "100 m/s^3"         # optional: S-curves; leave out for trapezoids
+
+    [[segment]]
+    kind = "move"              # move | dwell
+    name = "down, empty"
+    distance = "300 mm"
+    direction = "-"            # + or - along the axis (+ is up on a vertical axis)
+    payload = "0 kg"           # carried in this segment, on top of the carriage mass
+    force = "0 N"              # move: process force against the motion
+
+    [[segment]]
+    kind = "dwell"
+    time = "0.2 s"
+    force = "30 N"             # dwell: force on the carriage towards -, held by the drive
+
+A move may give ``time`` (with ``accel_fraction`` T_a/T, default 1/3, and
+``jerk_fraction`` T_j/T_a, default 0) instead of speed and acceleration. Every value is a
+quantity with its unit (plain numbers for the fractions). A malformed file is one
+:class:`~beltcalc.errors.CatalogError` naming the file and the key.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from beltcalc.errors import CatalogError
+from beltcalc.sizing import MoveSpec
+from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
+
+MAX_SEGMENTS = 10000
+_SEGMENT_KEYS = {"kind", "name", "distance", "direction", "time", "speed", "accel", "jerk", "accel_fraction",
+                 "jerk_fraction", "payload", "force"}
+_CYCLE_KEYS = {"title", "speed", "accel", "jerk", "note"}
+_ALTERNATIVES = {"speed": ("rad/s", "m/s"), "accel": ("rad/s^2", "m/s^2"), "jerk": ("rad/s^3", "m/s^3")}
+
+
+@dataclass(frozen=True)
+class CycleFile:
+    title: str
+    path: str
+    segments: tuple[MoveSpec, ...]
+
+
+def load_cycle(path: str | Path) -> CycleFile:
+    """Read a cycle file into :class:`~beltcalc.sizing.MoveSpec` segments (SI).
+
+    >>> from beltcalc.catalogs import builtin_dir
+    >>> c = load_cycle(builtin_dir() / "cycles" / "pick_place_vertical.toml")
+    >>> [s.kind for s in c.segments][:3], c.segments[0].direction
+    (['move', 'dwell', 'move'], -1)
+    """
+    path = Path(path)
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise CatalogError(f"cycle file {path} does not exist") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise CatalogError(f"{path}: not valid TOML ({exc})") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CatalogError(f"{path}: cannot be read ({exc})") from None
+
+    def fail(key: str, message: str):
+        raise CatalogError(f"{path}: {key}: {message}")
+
+    extra = set(data) - {"cycle", "segment", "source"}
+    if extra:
+        fail(sorted(extra)[0], "unknown top-level key (allowed: cycle, segment, source)")
+    head = data.get("cycle", {})
+    if not isinstance(head, dict):
+        fail("cycle", "must be a table")
+    extra = set(head) - _CYCLE_KEYS
+    if extra:
+        fail(f"cycle.{sorted(extra)[0]}", f"unknown key (allowed: {', '.join(sorted(_CYCLE_KEYS))})")
+    segs = data.get("segment")
+    if not isinstance(segs, list) or not segs or not all(isinstance(s, dict) for s in segs):
+        fail("segment", "a cycle needs one or more [[segment]] tables")
+    if len(segs) > MAX_SEGMENTS:
+        fail("segment", f"{len(segs)} segments; at most {MAX_SEGMENTS}")
+
+    def quantity(entry: dict, key: str, where: str, unit: str):
+        text = entry[key]
+        if isinstance(text, bool) or not isinstance(text, (str, int, float)):
+            fail(f"{where}.{key}", f"{text!r} is not a quantity")
+        try:
+            if key in _ALTERNATIVES:
+                return parse_quantity_any(text, _ALTERNATIVES[key])
+            return parse_quantity(text, unit)
+        except QuantityError as exc:
+            fail(f"{where}.{key}", str(exc))
+
+    defaults = {k: quantity(head, k, "cycle", "") for k in ("speed", "accel", "jerk") if k in head}
+    out = []
+    for n, e in enumerate(segs):
+        where = f"segment[{n}]"
+        extra = set(e) - _SEGMENT_KEYS
+        if extra:
+            fail(f"{where}.{sorted(extra)[0]}", f"unknown key (allowed: {', '.join(sorted(_SEGMENT_KEYS))})")
+        kind = e.get("kind")
+        if kind not in ("move", "dwell"):
+            fail(f"{where}.kind", f"{kind!r}; use \"move\" or \"dwell\"")
+        name = e.get("name", "")
+        if not isinstance(name, str):
+            fail(f"{where}.name", "must be a text")
+        direction = e.get("direction", "+")
+        if direction not in ("+", "-"):
+            fail(f"{where}.direction", f"{direction!r}; use \"+\" or \"-\"")
+        values = {}
+        for key, unit in (("distance", "m"), ("time", "s"), ("payload", "kg"), ("force", "N"),
+                          ("accel_fraction", ""), ("jerk_fraction", ""), ("speed", ""), ("accel", ""),
+                          ("jerk", "")):
+            if key in e:
+                values[key] = quantity(e, key, where, unit)
+        if kind == "dwell":
+            bad = set(values) - {"time", "payload", "force"}
+            if bad:
+                fail(f"{where}.{sorted(bad)[0]}", "not a key of a dwell (a dwell has time, payload, force)")
+            if "time" not in values:
+                fail(f"{where}.time", "missing: a dwell needs its time")
+        else:
+            if "distance" not in values:
+                fail(f"{where}.distance", "missing: a move needs its distance")
+            if "time" in values and ({"speed", "accel", "jerk"} & set(values)):
+                fail(f"{where}.time", "give a move either time or speed/accel/jerk, not both")
+            if "time" not in values:
+                for key in ("speed", "accel"):
+                    values.setdefault(key, defaults.get(key))
+                values.setdefault("jerk", defaults.get("jerk"))
+        out.append(MoveSpec(kind=kind, name=name, direction=1 if direction == "+" else -1, **values))
+    title = head.get("title", path.stem)
+    return CycleFile(title=str(title), path=str(path), segments=tuple(out))

@@ -1,0 +1,732 @@
+"""Duty cycles of a belt axis at the motor shaft: several moves and dwells, each with its
+payload, external force and direction, on an inclined or vertical axis with an optional
+counterweight and holding brake, through a gearbox with an efficiency that depends on the
+direction of power flow. Torque, power and energy are exact piecewise polynomials of time.
+
+Within a phase of constant jerk the speed is a polynomial of degree <= 2 and so is every
+torque; the pieces are cut where the load torque changes sign (the gearbox's efficiency
+changes with the direction of power flow) and where the motor torque changes sign
+(braking starts or ends), so that every integral below (T^2, T omega, the braking power)
+is the integral of a polynomial over an interval: exact, no samples. Peaks are taken at
+both ends of every piece (left and right limits, because the acceleration of a trapezoid
+jumps at the phase ends) and at the vertex of each quadratic.
+
+Conventions (SI): the axis coordinate x runs along the guide; ``incline`` is the angle of
++x above the horizontal (90 deg: +x is straight up). A move with ``direction`` +1 runs in
++x. The motor speed omega > 0 moves the carriage in +x. Torques are those the motor must
+produce (its electromagnetic torque, the motor's own losses included).
+
+References
+----------
+[1] Wojtkowiak et al., Energies 14 (2021) 317, eq. (17)-(29) (errata: DESIGN.md 2.5).
+[2] A. Crowder, Electric Drives and Electromechanical Systems (2006), eq. (3.21)-(3.27):
+    reflected inertia M D^2/4 and torque F D/2; eq. (3.9)-(3.10): a gearbox of efficiency
+    eta passes T_out = eta i T_in when driving; a back-driven gearbox passes
+    T_in = eta_b T_out / i (power flows from the load to the motor).
+[3] Yaskawa Sigma-7 AC servo drive product manual (SIEP S800001 28), "Calculating the
+    Required Capacity of Regenerative Resistors": the energy a braking event returns is
+    first stored in the SERVOPACK's DC-bus capacitors, E_C = C (U_max^2 - U_dc^2) / 2;
+    the rest goes to the regenerative resistor; its continuous power is that energy per
+    cycle over the cycle time, its peak power the largest braking power.
+[4] Biagiotti & Melchiorri, Trajectory Planning for Automatic Machines and Robots (2008),
+    section 3.4 (the S-curve, see :mod:`beltcalc.profiles`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from beltcalc.drive import G0, BeltAxis
+from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.profiles import Phase, Trapezoid
+
+# --- polynomials as coefficient tuples (c0, c1, c2, ...) in the local time of a piece ----------
+
+
+def _pval(p: tuple[float, ...], t: float) -> float:
+    out = 0.0
+    for c in reversed(p):
+        out = out * t + c
+    return out
+
+
+def _padd(*ps: tuple[float, ...]) -> tuple[float, ...]:
+    n = max(len(p) for p in ps)
+    return tuple(sum(p[k] for p in ps if k < len(p)) for k in range(n))
+
+
+def _pscale(p: tuple[float, ...], k: float) -> tuple[float, ...]:
+    return tuple(k * c for c in p)
+
+
+def _pmul(p: tuple[float, ...], q: tuple[float, ...]) -> tuple[float, ...]:
+    out = [0.0] * (len(p) + len(q) - 1)
+    for i, a in enumerate(p):
+        for j, b in enumerate(q):
+            out[i + j] += a * b
+    return tuple(out)
+
+
+def _pint(p: tuple[float, ...], t: float) -> float:
+    """Integral of p from 0 to t (exact for a polynomial)."""
+    return sum(c * t ** (k + 1) / (k + 1) for k, c in enumerate(p))
+
+
+def _pshift(p: tuple[float, ...], t0: float) -> tuple[float, ...]:
+    """p(t0 + s) as a polynomial in s (degree <= 2 here)."""
+    c = list(p) + [0.0] * (3 - len(p))
+    if len(p) > 3:
+        raise ValueError("degree > 2")
+    return (c[0] + c[1] * t0 + c[2] * t0 * t0, c[1] + 2 * c[2] * t0, c[2])
+
+
+def _roots_inside(p: tuple[float, ...], duration: float) -> list[float]:
+    """Real roots of a polynomial of degree <= 2 strictly inside (0, duration), sorted.
+
+    Closed form with the cancellation-free quadratic formula (Press et al., Numerical
+    Recipes, 3rd ed., eq. 5.6.4)."""
+    c = list(p) + [0.0] * (3 - len(p))
+    c0, c1, c2 = c[0], c[1], c[2]
+    scale = max(abs(c0), abs(c1) * duration, abs(c2) * duration * duration)
+    if scale == 0.0:
+        return []
+    roots: list[float] = []
+    if abs(c2) * duration * duration <= 1e-15 * scale:
+        if abs(c1) * duration > 1e-15 * scale:
+            roots = [-c0 / c1]
+    else:
+        disc = c1 * c1 - 4 * c2 * c0
+        if disc >= 0:
+            q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+            roots = [q / c2] + ([c0 / q] if q != 0 else [])
+    eps = 1e-12 * duration
+    return sorted(r for r in roots if eps < r < duration - eps)
+
+
+def _quad_min(p: tuple[float, ...], duration: float) -> tuple[float, float]:
+    """(minimum, where) of a polynomial of degree <= 2 on [0, duration]: ends and vertex."""
+    cands = [0.0, duration]
+    if len(p) > 2 and p[2] > 0:
+        v = -p[1] / (2 * p[2])
+        if 0 < v < duration:
+            cands.append(v)
+    return min((_pval(p, t), t) for t in cands)
+
+
+# --- the axis and the cycle ------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Gearbox:
+    """Gearbox between motor and drive pulley, SI. ``ratio`` i = input / output speed;
+    ``inertia`` at its input [kg m^2]; ``efficiency`` when the motor drives,
+    ``efficiency_back`` when the load drives the motor (power flows backwards);
+    ``max_input_speed`` [rad/s], ``rated_torque`` (continuous, RMS) and ``peak_torque``
+    at the output [N m]; None = not given (not checked). ``name`` and ``source`` from a
+    catalog entry."""
+
+    ratio: float = 1.0
+    inertia: float = 0.0
+    efficiency: float = 1.0
+    efficiency_back: float | None = None
+    max_input_speed: float | None = None
+    rated_torque: float | None = None
+    peak_torque: float | None = None
+    name: str = ""
+    source: str = ""
+
+    def __post_init__(self):
+        require_positive("gear_ratio", self.ratio, "")
+        require_range("gear_efficiency", self.efficiency, "", 0.0, 1.0, low_open=True)
+        if self.efficiency_back is not None:
+            require_range("gear_efficiency_back", self.efficiency_back, "", 0.0, 1.0, low_open=True)
+
+    @property
+    def eta_back(self) -> float:
+        return self.efficiency if self.efficiency_back is None else self.efficiency_back
+
+
+@dataclass(frozen=True)
+class Mounting:
+    """How the axis is mounted: ``incline`` [rad] of +x above the horizontal (-pi/2..pi/2),
+    ``counterweight`` [kg] hung on a rope over the drive so that it balances m g sin(incline)
+    (it adds its inertia; its own guide friction is not modelled), ``brake``: a holding
+    brake holds the axis in every dwell (the motor gives no torque there)."""
+
+    incline: float = 0.0
+    counterweight: float = 0.0
+    brake: bool = False
+
+    def __post_init__(self):
+        require_range("incline", self.incline, "rad", -math.pi / 2, math.pi / 2)
+        require_range("counterweight", self.counterweight, "kg", low=0.0)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One segment of a cycle: a move (``profile``: magnitudes of speed at the motor shaft,
+    without its dwell) or a dwell (``duration``). ``direction`` +1 / -1 along x;
+    ``payload`` [kg] carried on the carriage in this segment; ``force`` [N]: in a move a
+    process force against the motion, in a dwell a static force on the carriage towards
+    -x that the drive holds (negative: towards +x)."""
+
+    name: str
+    kind: str                      # "move" | "dwell"
+    profile: Trapezoid | None = None
+    duration: float = 0.0
+    direction: int = 1
+    payload: float = 0.0
+    force: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in ("move", "dwell"):
+            raise InputError(f"segment {self.name!r}: kind {self.kind!r}; use move or dwell", param="cycle")
+        if self.direction not in (1, -1):
+            raise InputError(f"segment {self.name!r}: direction {self.direction!r}; use +1 or -1", param="cycle")
+        require_range("payload", self.payload, "kg", low=0.0)
+        if not math.isfinite(self.force):
+            raise InputError(f"segment {self.name!r}: force {self.force!r} N is not finite", param="cycle")
+        if self.kind == "move":
+            if self.profile is None:
+                raise InputError(f"segment {self.name!r}: a move needs a profile", param="cycle")
+            if self.force < 0:
+                raise InputError(f"segment {self.name!r}: {self.force:g} N; a process force against the "
+                                 "motion must be >= 0 N", param="cycle")
+        else:
+            require_positive("dwell", self.duration, "s")
+
+    @property
+    def phases(self) -> tuple[Phase, ...]:
+        if self.kind == "dwell":
+            return (Phase("dwell", self.duration, 0.0, 0.0),)
+        return tuple(p for p in self.profile.phases if p.name != "dwell")
+
+    @property
+    def time(self) -> float:
+        return sum(p.duration for p in self.phases)
+
+
+def single_move(profile: Trapezoid) -> tuple[Segment, ...]:
+    """Today's cycle: one forward move of ``profile`` and its dwell (if any)."""
+    segs = [Segment("move", "move", profile=profile)]
+    if profile.dwell > 0:
+        segs.append(Segment("dwell", "dwell", duration=profile.dwell))
+    return tuple(segs)
+
+
+@dataclass(frozen=True)
+class Drive:
+    """Everything at the motor shaft except the motor: the belt axis (without its gearbox
+    ratio/inertia, which come from ``gearbox``), the mounting and the gearbox."""
+
+    axis: BeltAxis
+    mounting: Mounting = Mounting()
+    gearbox: Gearbox | None = None
+
+    def __post_init__(self):
+        if self.gearbox is None:   # the axis's own ratio and inertia, ideal
+            object.__setattr__(self, "gearbox", Gearbox(self.axis.gear_ratio, self.axis.gearbox_inertia))
+        elif (self.gearbox.ratio, self.gearbox.inertia) != (self.axis.gear_ratio, self.axis.gearbox_inertia):
+            raise ValueError("the axis's gear_ratio/gearbox_inertia must be the gearbox's")
+
+    def load_side(self, seg: Segment) -> tuple[float, float, float, float]:
+        r"""(J_L, b_L, T_F, T_S) of the load side reflected to the gearbox input in ``seg``.
+
+        .. math::
+            J_L = \frac{1}{i^2}\Big(J_C + J_{P1} + \frac{J_{P2} + J_{RL}}{n^2}
+                  + (m + m_p + m_{TB} + m_{cw}) \frac{D^2}{4}\Big), \quad
+            b_L = \frac{1}{i^2}\Big(b_B (1 + n^{-2}) + b_{LG} \frac{D^2}{4}\Big)
+
+            T_F = \big(F_R + F_{seg} + \mu (m + m_p) g \cos\alpha\big) \frac{D}{2 i}, \quad
+            T_S = (m + m_p - m_{cw}) g \sin\alpha \frac{D}{2 i}
+
+        T_F acts against the motion, T_S (gravity) always towards -x. Eq. (18), (23), (27)
+        of [1] with eq. (3.22)-(3.24) of [2]; gravity and the normal force on an incline:
+        F = m g sin(alpha), N = m g cos(alpha).
+        """
+        ax, gb, mt = self.axis, self.gearbox, self.mounting
+        i2, r = gb.ratio ** 2, ax.pulley_diameter / 2.0
+        n2 = ax.belt_ratio ** 2
+        m = ax.mass + seg.payload
+        j = (ax.coupling_inertia + ax.pulley_inertia + (ax.idler_inertia + ax.load_inertia) / n2
+             + (m + ax.substitute_mass + mt.counterweight) * r * r) / i2
+        b = (ax.bearing_damping * (1 + 1 / n2) + ax.guide_damping * r * r) / i2
+        lever = r / gb.ratio
+        friction = (ax.resistance + seg.force * (seg.kind == "move")
+                    + ax.guide_friction * m * G0 * math.cos(mt.incline)) * lever
+        static = (m - mt.counterweight) * G0 * math.sin(mt.incline) * lever
+        if seg.kind == "dwell":
+            static += seg.force * lever
+        return j, b, friction, static
+
+    def load_inertia(self, segments) -> float:
+        """The largest load inertia at the motor shaft over the cycle (gearbox included) [kg m^2]."""
+        return self.gearbox.inertia + max(self.load_side(s)[0] for s in segments)
+
+
+@dataclass(frozen=True)
+class Piece:
+    """A stretch of the cycle where every quantity is one polynomial of the local time
+    s in [0, duration]: speed ``w``, load torque at the gearbox input ``t_load`` (ideal,
+    before the efficiency), motor torque ``torque``. ``start`` is the time in the cycle."""
+
+    segment: int
+    phase: str
+    start: float
+    duration: float
+    w: tuple[float, ...]
+    t_load: tuple[float, ...]
+    torque: tuple[float, ...]
+
+    def power(self) -> tuple[float, ...]:
+        return _pmul(self.torque, self.w)
+
+
+@dataclass(frozen=True)
+class PhaseDuty:
+    """One phase of the cycle: its time and its torque (the table of "time at each torque")."""
+
+    segment: int
+    segment_name: str
+    name: str
+    start: float
+    duration: float
+    speed0: float
+    speed1: float
+    torque0: float   # right limit at the start [N m]
+    torque1: float   # left limit at the end [N m]
+    peak: float      # largest |T| inside [N m]
+    rms: float       # RMS over the phase [N m]
+
+
+@dataclass(frozen=True)
+class SegmentDuty:
+    name: str
+    kind: str
+    start: float
+    duration: float
+    peak_torque: float
+    rms_torque: float          # over the segment's own time
+    sq_integral: float         # integral of T^2 [N^2 m^2 s]
+    energy_motoring: float     # integral of max(T w, 0) [J]
+    energy_braking: float      # integral of max(-T w, 0) [J]
+    peak_speed: float
+
+
+@dataclass(frozen=True)
+class BrakingEvent:
+    """A stretch of negative motor power (the drive takes energy back)."""
+
+    start: float
+    end: float
+    energy: float       # [J], > 0
+    peak_power: float   # [W], > 0
+
+
+@dataclass(frozen=True)
+class CycleDuty:
+    """Torque, power and energy of a cycle at the motor shaft, SI, exact."""
+
+    pieces: tuple[Piece, ...]
+    phases: tuple[PhaseDuty, ...]
+    segments: tuple[SegmentDuty, ...]
+    events: tuple[BrakingEvent, ...]
+    cycle_time: float
+    peak_torque: float
+    peak_time: float
+    rms_torque: float
+    peak_speed: float
+    mean_speed: float           # mean |omega| over the cycle [rad/s]
+    peak_power: float
+    braking_torque: float       # largest torque while the power is negative, signed (0 if none) [N m]
+    energy_motoring: float
+    braking_energy: float
+    peak_braking_power: float
+    load_peak_torque: float     # largest |T_load| at the gearbox input (ideal) [N m]
+    load_rms_torque: float
+    holding_torque: float       # largest |T| while at rest (0 with a brake) [N m]
+
+    def torque_at(self, t: float, side: str = "right") -> float:
+        """Motor torque at time ``t`` [N m]; at a phase end ``side`` picks the limit."""
+        for p in self.pieces:
+            end = p.start + p.duration
+            if p.start <= t < end or (side == "left" and p.start < t <= end):
+                return _pval(p.torque, t - p.start)
+        return _pval(self.pieces[-1].torque, self.pieces[-1].duration)
+
+
+def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping: float = 0.0) -> CycleDuty:
+    r"""The motor torque over a cycle, and its peak, RMS, power and energies, exact.
+
+    .. math::
+        T_L = J_L \dot\omega + b_L \omega + T_F\,\mathrm{sgn}\,\omega + T_S
+
+        T = (J_M + J_G) \dot\omega + b_M \omega +
+            \begin{cases} T_L/\eta & T_L \omega > 0 \text{ (motor drives)} \\
+                          \eta_b T_L & T_L \omega < 0 \text{ (load drives)} \\
+                          T_L & \omega = 0 \text{ (holding; 0 with a brake)} \end{cases}
+
+        T_{rms} = \sqrt{\frac{1}{t_{cyc}} \sum \int T^2 dt}, \quad
+        E_{brake} = \int \max(-T \omega, 0)\,dt
+
+    Parameters
+    ----------
+    drive : Drive
+        Axis, mounting and gearbox
+    segments : sequence of Segment
+        The cycle
+    motor_inertia : float
+        Rotor inertia J_M [kg m^2]
+    motor_damping : float
+        Motor loss as viscous damping b_M [N m s/rad]
+
+    Notes
+    -----
+    [1] eq. (26)-(28) with the errata of DESIGN.md 2.5; gearbox efficiency as [2] eq.
+    (3.9)-(3.10). The speed and torque of each piece are polynomials of degree <= 2, the
+    integrals of T^2 and T omega are computed from their coefficients (exact up to
+    rounding). The holding torque at rest is taken through the gearbox without
+    efficiency (a static gearbox neither helps nor hinders; conservative for a hold that
+    the gearbox's friction would help).
+
+    Examples
+    --------
+    A vertical axis at rest holds m g D/2 / i: 10 kg, D = 0.1 m, i = 5:
+    10 * 9.80665 * 0.05 / 5 = 0.980665 N m.
+
+    >>> ax = BeltAxis(mass=10.0, substitute_mass=0.0, pulley_diameter=0.1, pulley_inertia=0.0,
+    ...               idler_inertia=0.0, gear_ratio=5.0)
+    >>> d = cycle_duty(Drive(ax, Mounting(incline=math.pi / 2), Gearbox(ratio=5.0)),
+    ...                [Segment("rest", "dwell", duration=1.0)])
+    >>> round(d.holding_torque, 6), round(d.rms_torque, 6)
+    (0.980665, 0.980665)
+    """
+    require_range("motor_inertia", motor_inertia, "kg*m^2", low=0.0)
+    require_range("motor_damping", motor_damping, "N*m*s/rad", low=0.0)
+    segments = tuple(segments)
+    if not segments:
+        raise InputError("a cycle needs at least one segment", param="cycle")
+    gb, brake = drive.gearbox, drive.mounting.brake
+    j_motor = motor_inertia + gb.inertia
+    pieces: list[Piece] = []
+    phase_rows: list[PhaseDuty] = []
+    t0 = 0.0
+    for k, seg in enumerate(segments):
+        j_l, b_l, t_f, t_s = drive.load_side(seg)
+        s = float(seg.direction)
+        for ph in seg.phases:
+            tau = ph.duration
+            if tau <= 0:
+                continue
+            w = (s * ph.speed0, s * ph.accel, s * 0.5 * ph.jerk)
+            wd = (s * ph.accel, s * ph.jerk)
+            moving = seg.kind == "move"
+            t_load = _padd(_pscale(wd, j_l), _pscale(w, b_l), (s * t_f * moving + t_s,))
+            motor_own = _padd(_pscale(wd, j_motor), _pscale(w, motor_damping))
+            cuts = [0.0, *_roots_inside(t_load, tau), tau] if moving else [0.0, tau]
+            first = len(pieces)
+            for a, b in zip(cuts, cuts[1:]):
+                wl, tl, mo = _pshift(w, a), _pshift(t_load, a), _pshift(motor_own, a)
+                mid = 0.5 * (b - a)
+                flow = _pval(tl, mid) * _pval(wl, mid)
+                if not moving:
+                    factor = 0.0 if brake else 1.0
+                elif flow > 0:
+                    factor = 1.0 / gb.efficiency
+                elif flow < 0:
+                    factor = gb.eta_back
+                else:
+                    factor = 1.0
+                torque = _padd(mo, _pscale(tl, factor))
+                # cut again where the motor torque changes sign (braking starts or ends)
+                sub = [0.0, *_roots_inside(torque, b - a), b - a] if moving else [0.0, b - a]
+                for c, d in zip(sub, sub[1:]):
+                    pieces.append(Piece(k, ph.name, t0 + a + c, d - c, _pshift(wl, c), _pshift(tl, c),
+                                        _pshift(torque, c)))
+            mine = pieces[first:]
+            sq = sum(_pint(_pmul(p.torque, p.torque), p.duration) for p in mine)
+            phase_rows.append(PhaseDuty(
+                segment=k, segment_name=seg.name, name=ph.name, start=t0, duration=tau,
+                speed0=w[0], speed1=_pval(w, tau), torque0=_pval(mine[0].torque, 0.0),
+                torque1=_pval(mine[-1].torque, mine[-1].duration),
+                peak=max(_abs_peak(p.torque, p.duration)[0] for p in mine), rms=math.sqrt(sq / tau)))
+            t0 += tau
+    cycle = t0
+    return _summarise(tuple(pieces), tuple(phase_rows), segments, cycle)
+
+
+def _abs_peak(p: tuple[float, ...], duration: float) -> tuple[float, float]:
+    """(max |p|, where) on [0, duration]: ends (left/right limits) and the vertex."""
+    cands = [0.0, duration]
+    if len(p) > 2 and p[2] != 0:
+        v = -p[1] / (2 * p[2])
+        if 0 < v < duration:
+            cands.append(v)
+    return max((abs(_pval(p, t)), t) for t in cands)
+
+
+def _summarise(pieces, phase_rows, segments, cycle) -> CycleDuty:
+    sq_total = 0.0
+    sq_load = 0.0
+    peak, peak_t = 0.0, 0.0
+    peak_power = -math.inf
+    braking_torque = 0.0
+    e_mot = e_brk = 0.0
+    peak_brake_p = 0.0
+    load_peak = 0.0
+    angle = 0.0
+    holding = 0.0
+    events: list[list[float]] = []
+    seg_acc = {k: [0.0, 0.0, 0.0, 0.0, 0.0] for k in range(len(segments))}  # sq, peak, e+, e-, w
+    for p in pieces:
+        tq, w, dur = p.torque, p.w, p.duration
+        sq = _pint(_pmul(tq, tq), dur)
+        sq_total += sq
+        sq_load += _pint(_pmul(p.t_load, p.t_load), dur)
+        pk, where = _abs_peak(tq, dur)
+        if pk > peak:
+            peak, peak_t = pk, p.start + where
+        load_peak = max(load_peak, _abs_peak(p.t_load, dur)[0])
+        pw = _pmul(tq, w)   # sign-definite on a piece (cut at the zeros of T; w keeps its sign)
+        e = _pint(pw, dur)
+        if e < 0 and pk > abs(braking_torque):   # the largest torque while braking, with its sign
+            braking_torque = math.copysign(pk, _pval(tq, 0.5 * dur))
+        pmax = max(_pval(pw, 0.0), _pval(pw, dur), *([_pval(pw, t) for t in _vertices(pw, dur)]))
+        pmin = min(_pval(pw, 0.0), _pval(pw, dur), *([_pval(pw, t) for t in _vertices(pw, dur)]))
+        peak_power = max(peak_power, pmax)
+        wmax = max(abs(_pval(w, 0.0)), abs(_pval(w, dur)))
+        acc = seg_acc[p.segment]
+        acc[0] += sq
+        acc[1] = max(acc[1], pk)
+        acc[4] = max(acc[4], wmax)
+        angle += abs(_pint(w, dur))
+        if w == (0.0, 0.0, 0.0) or all(c == 0 for c in w):
+            holding = max(holding, pk)
+        if e >= 0:
+            e_mot += e
+            acc[2] += e
+        else:
+            e_brk -= e
+            acc[3] -= e
+            peak_brake_p = max(peak_brake_p, -pmin)
+            if events and abs(events[-1][1] - p.start) <= 1e-12 * max(cycle, 1.0):
+                events[-1][1] = p.start + dur
+                events[-1][2] -= e
+                events[-1][3] = max(events[-1][3], -pmin)
+            else:
+                events.append([p.start, p.start + dur, -e, -pmin])
+    seg_rows = []
+    t = 0.0
+    for k, seg in enumerate(segments):
+        sq, pk, ep, en, wmax = seg_acc[k]
+        dur = seg.time
+        seg_rows.append(SegmentDuty(seg.name, seg.kind, t, dur, pk, math.sqrt(sq / dur), sq, ep, en, wmax))
+        t += dur
+    # an event that wraps around the cycle's end joins the first one
+    if len(events) > 1 and events[0][0] <= 1e-12 * cycle and abs(events[-1][1] - cycle) <= 1e-12 * cycle:
+        last = events.pop()
+        events[0] = [last[0], events[0][1], events[0][2] + last[2], max(events[0][3], last[3])]
+    return CycleDuty(
+        pieces=pieces, phases=phase_rows, segments=tuple(seg_rows),
+        events=tuple(BrakingEvent(a, b, e, p) for a, b, e, p in events), cycle_time=cycle,
+        peak_torque=peak, peak_time=peak_t, rms_torque=math.sqrt(sq_total / cycle),
+        peak_speed=max(r.peak_speed for r in seg_rows), mean_speed=angle / cycle,
+        peak_power=max(peak_power, 0.0), braking_torque=braking_torque, energy_motoring=e_mot,
+        braking_energy=e_brk, peak_braking_power=peak_brake_p, load_peak_torque=load_peak,
+        load_rms_torque=math.sqrt(sq_load / cycle), holding_torque=holding,
+    )
+
+
+def _vertices(p: tuple[float, ...], duration: float) -> list[float]:
+    """Interior stationary points of a polynomial of degree <= 4 on (0, duration)."""
+    deriv = tuple(k * c for k, c in enumerate(p))[1:]
+    while deriv and deriv[-1] == 0:
+        deriv = deriv[:-1]
+    if len(deriv) <= 1:
+        return []
+    if len(deriv) <= 3:
+        return _roots_inside(deriv, duration)
+    import numpy as np  # degree 3 derivative: companion-matrix roots
+
+    return [float(r.real) for r in np.roots(deriv[::-1])
+            if abs(r.imag) <= 1e-9 * duration and 0 < r.real < duration]
+
+
+# --- regeneration -------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Regeneration:
+    """Braking energy of a cycle against the drive's storage, and the braking resistor.
+
+    ``stored`` [J] the DC-bus capacitors take per braking event (None: not given, all of
+    it goes to the resistor); ``resistor_energy`` [J] per cycle; ``resistor_power``
+    continuous [W]; ``resistor_peak_power`` [W]; ``resistance_max`` [ohm] the largest
+    resistance that still takes the peak power at the chopper voltage (None without it).
+    """
+
+    braking_energy: float
+    efficiency: float
+    stored: float | None
+    resistor_energy: float
+    resistor_power: float
+    resistor_peak_power: float
+    resistance_max: float | None
+    events: tuple[tuple[float, float, float], ...] = field(default=())  # (start, energy, to resistor)
+
+
+def capacitor_energy(capacitance: float, bus_voltage: float, chopper_voltage: float) -> float:
+    r"""Energy the DC-bus capacitors take between the bus voltage and the chopper threshold [J].
+
+    .. math:: E_C = \tfrac12 C (U_{max}^2 - U_{dc}^2)
+
+    Notes
+    -----
+    [3]: the regenerative energy a SERVOPACK can absorb without a resistor. U_dc is the
+    bus voltage at rest (about sqrt(2) x the mains voltage), U_max the voltage at which
+    the braking chopper switches the resistor in.
+
+    Examples
+    --------
+    >>> round(capacitor_energy(1.0e-3, 325.0, 380.0), 3)
+    19.387
+    """
+    require_positive("dc_bus_capacitance", capacitance, "F")
+    require_positive("dc_bus_voltage", bus_voltage, "V")
+    if not chopper_voltage > bus_voltage:
+        raise InputError(f"{chopper_voltage:g} V; the chopper voltage must be above the bus voltage "
+                         f"({bus_voltage:g} V)", param="chopper_voltage")
+    return 0.5 * capacitance * (chopper_voltage ** 2 - bus_voltage ** 2)
+
+
+def regeneration(duty: CycleDuty, stored: float | None = None, efficiency: float = 1.0,
+                 chopper_voltage: float | None = None) -> Regeneration:
+    r"""Braking resistor of a cycle: energy, continuous and peak power.
+
+    .. math::
+        E_i = \eta \int_{event\,i} \max(-T\omega, 0)\,dt, \quad
+        E_R = \sum_i \max(E_i - E_C, 0), \quad
+        P_{R,cont} = E_R / t_{cyc}, \quad P_{R,peak} = \eta \max(-T\omega), \quad
+        R_{max} = U_{max}^2 / P_{R,peak}
+
+    Notes
+    -----
+    [3]. T is the motor's electromagnetic torque, so T omega already has the motor's
+    modelled losses (b_M omega^2), the gearbox's back-driven efficiency and the friction
+    taken off; ``efficiency`` is what is lost further on the way to the DC bus (winding
+    and inverter; 1: the resistor must take all of it, the safe side). The capacitors
+    are taken as empty again at the start of each braking event (the motoring between
+    events draws them down), and as full when the peak occurs (the safe side for the
+    peak power).
+    """
+    require_range("regen_efficiency", efficiency, "", 0.0, 1.0, low_open=True)
+    cap = 0.0 if stored is None else stored
+    rows = []
+    total = 0.0
+    for ev in duty.events:
+        e = efficiency * ev.energy
+        to_r = max(e - cap, 0.0)
+        rows.append((ev.start, e, to_r))
+        total += to_r
+    peak = efficiency * duty.peak_braking_power
+    r_max = None
+    if chopper_voltage is not None and peak > 0:
+        r_max = chopper_voltage ** 2 / peak
+    return Regeneration(
+        braking_energy=duty.braking_energy, efficiency=efficiency, stored=stored, resistor_energy=total,
+        resistor_power=total / duty.cycle_time, resistor_peak_power=peak if total > 0 or stored is None else 0.0,
+        resistance_max=r_max if total > 0 else None, events=tuple(rows))
+
+
+# --- torque-speed zones ------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ZoneCheck:
+    """The smallest margin of the cycle's points (|omega|, |T|) below a torque-speed limit.
+
+    ``margin`` [N m] = T_lim(|omega|) - (1 + peak_margin) |T| at its smallest, at cycle time
+    ``time`` where the speed is ``speed`` and the torque ``torque`` against ``limit``."""
+
+    margin: float
+    time: float
+    speed: float
+    torque: float
+    limit: float
+    segment: int = -1
+    phase: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.margin >= -1e-12 * max(abs(self.limit), 1.0)
+
+
+def zone_limit(points: tuple[tuple[float, float], ...], speed: float) -> float:
+    """The zone's torque at ``speed`` [N m], linear between its (speed, torque) points."""
+    for (w0, t0), (w1, t1) in zip(points, points[1:]):
+        if speed <= w1:
+            return t0 + (t1 - t0) * (speed - w0) / (w1 - w0)
+    return points[-1][1]
+
+
+def zone_check(duty: CycleDuty, points: tuple[tuple[float, float], ...], peak_margin: float = 0.0) -> ZoneCheck:
+    r"""Every point of the cycle against a torque-speed zone, exactly.
+
+    .. math:: g(t) = T_{lim}(|\omega(t)|) - (1 + m) |T(t)| \ge 0
+
+    ``points`` are (speed [rad/s], torque [N m]) from speed 0 up to the motor's maximum
+    speed, the limit linear between them. Speeds above the last point are not checked
+    here (the speed check covers them).
+
+    Notes
+    -----
+    Between two points of the zone the limit is linear in the speed; the speed is a
+    polynomial of degree <= 2 in time on each piece, and so is the torque: g is a
+    quadratic on each piece cut where |omega| crosses a point's speed, and its minimum is
+    at an end or at the vertex (exact). The servo makers' sizing tools check the same
+    (e.g. Yaskawa SigmaSelect: every operating point inside the intermittent zone).
+    """
+    require_range("peak_margin", peak_margin, "", low=0.0)
+    k = 1.0 + peak_margin
+    speeds = [w for w, _ in points]
+    best = None
+    for p in duty.pieces:
+        sign_w = 1.0 if _pval(p.w, 0.5 * p.duration) >= 0 else -1.0
+        aw = _pscale(p.w, sign_w)
+        cuts = [0.0]
+        for w_k in speeds[1:]:
+            cuts += _roots_inside(_padd(aw, (-w_k,)), p.duration)
+        cuts = sorted(set(cuts)) + [p.duration]
+        for a, b in zip(cuts, cuts[1:]):
+            if b - a <= 0:
+                continue
+            mid_w = _pval(aw, 0.5 * (a + b))
+            if mid_w > speeds[-1] * (1 + 1e-12):
+                continue
+            idx = max(0, min(len(points) - 2, next((i for i in range(len(points) - 1)
+                                                     if mid_w <= speeds[i + 1]), len(points) - 2)))
+            (w0, t0), (w1, t1) = points[idx], points[idx + 1]
+            slope = (t1 - t0) / (w1 - w0)
+            lim = _padd((t0 - slope * w0,), _pscale(_pshift(aw, a), slope))
+            tq = _pshift(p.torque, a)
+            sgn = 1.0 if _pval(tq, 0.5 * (b - a)) >= 0 else -1.0
+            g = _padd(lim, _pscale(tq, -k * sgn))
+            val, where = _quad_min(g, b - a)
+            if best is None or val < best[0]:
+                wv = _pval(aw, a + where)
+                best = (val, p.start + a + where, wv, _pval(p.torque, a + where), _pval(lim, where),
+                        p.segment, p.phase)
+    if best is None:
+        return ZoneCheck(math.inf, 0.0, 0.0, 0.0, points[0][1])
+    return ZoneCheck(*best)
+
+
+def assumed_zone(T_max: float, T_end: float, n_rated: float, n_max: float) -> tuple[tuple[float, float], ...]:
+    """The intermittent zone assumed when the catalog publishes none: T_max flat from 0 to
+    the rated speed, then falling linearly to ``T_end`` at the maximum speed.
+
+    >>> assumed_zone(4.46, 1.27, 314.16, 628.32)
+    ((0.0, 4.46), (314.16, 4.46), (628.32, 1.27))
+    """
+    require_range("zone_end_torque", T_end, "N*m", 0.0, T_max)
+    if n_max > n_rated:
+        return ((0.0, T_max), (n_rated, T_max), (n_max, T_end))
+    return ((0.0, T_max), (n_max, T_max))

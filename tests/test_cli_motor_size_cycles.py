@@ -240,3 +240,16 @@ def test_csv_of_a_cycle_is_exact_at_the_phase_ends(tmp_path):
     # 7 move phases + dwell, 21 points each; the last point of 'accelerate' is the peak (left limit)
     assert len(rows) == 8 * 21
     assert float(rows[2 * 21 - 1][3]) == pytest.approx(J_RED * EPS + B_M * (OMEGA - EPS * 0.025) + T_R, rel=1e-12)
+
+
+def test_assumed_zone_end_and_where_the_margin_is_smallest():
+    # 4500 rpm: the assumed zone of SGM7J-06A falls from 6.69 at 3000 rpm to T_n = 1.91 at 6000 rpm:
+    # 6.69 - 4.78 * 1500/3000 = 4.3 N m; with --zone-end 0.5 to 3.345 at 6000: 6.69 - 3.345/2 = 5.0175 N m.
+    # The smallest margin is at the end of the acceleration, at 4500 rpm (peak torque, highest speed).
+    w = 4500 * PI / 30
+    for extra, limit in (((), 4.3), (("--zone-end", "0.5"), 5.0175)):
+        out = js("--speed", "4500rpm", "--motor", "SGM7J-06A", *extra)
+        z = out["zone"]
+        assert (z["speed"]["value"], z["limit"]["value"]) == pytest.approx((w, limit), rel=1e-12)
+        assert (z["segment"], z["phase"]) == ("move", "accelerate")
+        assert out["zone_margin"]["value"] == pytest.approx(limit - out["peak_torque"]["value"], rel=1e-12)

@@ -418,7 +418,8 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
               rule="F_U + F_v <= F_Tadm (Elatech p. 55)",
               reason="" if row.F_Tadm else f"{belt.name} {inp.width * 1e3:g} mm has no published F_Tadm"),
         Check("pretension", "installation tension", f_v, rule, "N", kind="min",
-              rule="linear: F_v >= F_U (Elatech p. 55); endless: F_v >= F_U / 2"),
+              rule=("F_v >= F_U (linear drive, Elatech p. 55)" if inp.layout == "linear"
+                    else "F_v >= F_U / 2 (endless drive: slack side T_2 = F_v - F_U / 2 >= 0)")),
         Check("pulley_teeth", "pulley teeth", float(z1), float(belt.z_min) if belt.z_min else None, "1",
               kind="min", rule="z_1 >= z_min of the catalog",
               reason="" if belt.z_min else f"the catalog gives no z_min for {belt.name}"),

@@ -535,6 +535,35 @@ class Network:
                         B[n + k, ramp] = c
         return A, B
 
+    def strand_stamps(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """What each strand adds to ``[A | B]`` when taut, as sparse entries ``(owner, row,
+        col, value)`` over ``z = [x, g]`` (column ``size`` is the constant generator): its
+        stiffness and damping on the two nodes' accelerations (``-M^-1 c g g^T`` and
+        ``-M^-1 b g g^T``) and its pretension (``-M^-1 g F0``). Rows of prescribed nodes are
+        left out, as :meth:`first_order` zeroes them. With these, ``[A | B]`` of any strand
+        pattern is the all-slack one plus the stamps of its taut strands: O(strands) work
+        per pattern instead of a dense rebuild."""
+        n, m = self.n, self.size
+        Minv = 1.0 / np.diag(self.M)
+        owner, rows, cols, vals = [], [], [], []
+        for k, (s, g) in enumerate(zip(self.strands, self._G)):
+            nz = np.nonzero(g)[0]
+            for a in nz:
+                if a in self.fixed:
+                    continue
+                for b in nz:
+                    owner += [k, k]
+                    rows += [n + a, n + a]
+                    cols += [b, n + b]
+                    vals += [-Minv[a] * s.stiffness * g[a] * g[b], -Minv[a] * s.damping * g[a] * g[b]]
+                if s.preload:
+                    owner.append(k)
+                    rows.append(n + a)
+                    cols.append(m)
+                    vals.append(-Minv[a] * g[a] * s.preload)
+        return (np.array(owner, dtype=np.int64), np.array(rows, dtype=np.int64),
+                np.array(cols, dtype=np.int64), np.array(vals, dtype=float))
+
     def state_matrix(self, taut: tuple[bool, ...] | None = None) -> np.ndarray:
         """A of x' = A x + (inputs), with every strand taut unless ``taut`` says otherwise."""
         return self.first_order(taut)[0]

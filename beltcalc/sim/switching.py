@@ -50,6 +50,11 @@ from scipy.optimize import brentq
 
 from beltcalc.errors import SimulationError
 
+try:   # scipy's own C kernel behind ``csr @ vector`` (out += A x), without the ~4 us of Python
+    from scipy.sparse._sparsetools import csr_matvec as _csr_matvec   # dispatch per call; the
+except ImportError:                                                     # sparse path makes millions
+    _csr_matvec = None
+
 EPS = np.finfo(float).eps
 THETA = 2.0          # ||F~ L||_1 on the bottom step
 TERMS = 24           # THETA^24 / 24! < 2^-53: the Taylor series is exact to rounding
@@ -57,6 +62,8 @@ ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |
 STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
 MAX_BLOCK = 1024     # steps propagated ahead at once (doubled from 8 while nothing happens)
 CACHE_BYTES = 400e6  # modes kept (least recently used first out)
+SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
+SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 
 
 def balance(F: np.ndarray) -> np.ndarray:
@@ -100,12 +107,32 @@ def _horner(V: np.ndarray, s) -> np.ndarray:
 
 
 class Mode:
-    """One strand pattern on one time piece: the balanced matrix, its steps and switching rows."""
+    """One strand pattern on one time piece: the balanced matrix, its steps and switching rows.
 
-    def __init__(self, network, taut: tuple[bool, ...], t_mid: float, S: np.ndarray, omega: float, scale: float):
+    Dense (small networks): ``expm`` ladders, the orbit by doubling, the polynomial rows
+    ``R`` precomputed. Sparse (``parts`` given, large networks): ``F~`` assembled from the
+    strands' stamps in O(nonzeros), every bottom step taken by its Taylor sum of sparse
+    products; nothing of size states^2 is formed, so a new strand pattern costs little."""
+
+    def __init__(self, network, taut: tuple[bool, ...], t_mid: float, S: np.ndarray, omega: float, scale: float,
+                 parts: "_SparseParts | None" = None):
+        self.taut = taut
+        self.sparse = parts is not None
+        self.events = network.events(taut)
+        self.dirs = np.array([e.direction for e in self.events], dtype=float)
+        self._P: dict[int, np.ndarray] = {}
+        self._R = None
+        if self.sparse:
+            self.Ft = parts.matrix(taut, t_mid)
+            norm = float(abs(self.Ft).sum(axis=0).max())
+            self.L = scale * THETA / max(norm, 1e-300)
+            self.K, self.h = 0, self.L
+            self.H = parts.rows(taut)
+            self.absH = abs(self.H)
+            self.Ms = [(self.Ft * (self.L / j)).tocsr() for j in range(1, TERMS)]
+            return
         from beltcalc.sim.core import augmented_matrix
 
-        self.taut = taut
         F = augmented_matrix(network, taut, t_mid)
         self.Ft = F / S[:, None] * S[None, :]
         norm = float(np.abs(self.Ft).sum(axis=0).max())
@@ -114,17 +141,73 @@ class Mode:
         if omega > 0 and norm > STIFF * omega:
             self.K = max(0, int(math.floor(math.log2(1.0 / (omega * self.L)))))
         self.h = self.L * 2 ** self.K
-        self.events = network.events(taut)
         self.H = np.array([e.row for e in self.events]).reshape(len(self.events), F.shape[0]) * S[None, :]
         self.absH = np.abs(self.H)
-        self.dirs = np.array([e.direction for e in self.events], dtype=float)
-        self._P: dict[int, np.ndarray] = {}
-        self._R = None
 
     @property
     def nbytes(self) -> int:
+        """Memory the mode holds once its ladder and rows are built (a fixed figure)."""
+        if self.sparse:
+            return 12 * (TERMS * self.Ft.nnz + 2 * self.H.nnz)
         m = self.Ft.shape[0]
-        return 8 * (m * m * (2 + len(self._P)) + TERMS * self.H.size)
+        return 8 * (m * m * (3 + self.K) + TERMS * self.H.size)
+
+    def taylor(self, Z: np.ndarray) -> np.ndarray:
+        """V[j] = (F~ L)^j Z / j! for j < TERMS; Z is one state (size,) or rows (count, size)."""
+        if not self.sparse:
+            return _taylor(self.Ft, Z, self.L)
+        V = np.empty((TERMS, *Z.shape))
+        V[0] = Z
+        for j in range(1, TERMS):
+            V[j] = self.Ms[j - 1] @ V[j - 1] if Z.ndim == 1 else (self.Ms[j - 1] @ V[j - 1].T).T
+        return V
+
+    def orbit(self, z: np.ndarray, count: int, stop_early: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """The states at ``count`` bottom steps from z (rows Z, count + 1 of them) and the
+        switching functions' polynomial coefficients on each step, C (TERMS, events, count).
+        ``stop_early`` (sparse): end the block after the first step where a switching
+        function comes within its polynomial's reach of zero (nothing is propagated past a
+        switch only to be thrown away)."""
+        if not self.sparse:
+            Z = _orbit(self.P(0), z, count + 1)
+            return Z, self.coeffs(Z[:count])
+        Z = np.empty((count + 1, z.size))
+        Z[0] = z
+        C = np.empty((count, len(self.events), TERMS))
+        V = np.empty((TERMS, z.size))
+        Ms, H, absH = self.Ms, self.H, self.absH
+        kernel = _csr_matvec
+        if kernel is not None:
+            m = z.size
+            parts = [(M.indptr, M.indices, M.data) for M in Ms]
+        for i in range(count):           # sequential: each step's Taylor sum of sparse products
+            V[0] = Z[i]
+            if kernel is not None:
+                V[1:] = 0.0
+                for j in range(1, TERMS):
+                    kernel(m, m, *parts[j - 1], V[j - 1], V[j])
+            else:
+                for j in range(1, TERMS):
+                    V[j] = Ms[j - 1] @ V[j - 1]
+            Z[i + 1] = V.sum(axis=0)
+            c = C[i] = H @ V.T
+            if stop_early and i + 1 < count:           # a step where some function may reach zero: stop here
+                reach = np.abs(c[:, 1:]).sum(axis=1)
+                tol = ROUND * (absH @ np.abs(Z[i])) + 1e-300
+                if np.any((np.abs(c[:, 0]) <= reach + tol) & (reach + np.abs(c[:, 0]) > tol)):
+                    return Z[:i + 2], C[:i + 1].transpose(2, 1, 0)
+        return Z, C.transpose(2, 1, 0)
+
+    def coeffs(self, Z: np.ndarray) -> np.ndarray:
+        """C (TERMS, events, rows of Z): every switching function's polynomial on the bottom
+        step from each row of Z."""
+        if not self.events:
+            return np.zeros((TERMS, 0, Z.shape[0]))
+        if self.sparse:
+            V = self.taylor(Z)                                       # (TERMS, count, size)
+            return np.stack([(self.H @ V[j].T) for j in range(TERMS)])
+        E = len(self.events)
+        return (self.R.reshape(TERMS * E, -1) @ Z.T).reshape(TERMS, E, Z.shape[0])
 
     def P(self, k: int) -> np.ndarray:
         """expm(F~ h / 2^k): the ladder, built bottom-up by squaring from the bottom step."""
@@ -166,25 +249,69 @@ class Mode:
                     Z[bit == 1] = Z[bit == 1] @ self.P(k).T
         else:
             frac = tau / self.L
-        return _horner(_taylor(self.Ft, Z, self.L), frac)
+        return _horner(self.taylor(Z), frac)
+
+
+class _SparseParts:
+    """The balanced ``F~`` of any strand pattern, and its switching rows, from sparse pieces:
+    the all-slack matrix of each time piece (built once) plus the stamps of the taut
+    strands (:meth:`beltcalc.sim.network.Network.strand_stamps`), scaled by S."""
+
+    def __init__(self, network, S: np.ndarray):
+        from scipy import sparse
+
+        self.network, self.S, self.sparse = network, S, sparse
+        self.owner, self.r, self.c, v = network.strand_stamps()
+        self.v = v / S[self.r] * S[self.c]
+        self.none = tuple(False for _ in network.strands)
+        self._base: dict = {}
+        delta, force = network.strand_rows()
+        self.rows_all = sparse.csr_matrix(np.vstack([force, delta]) * S[None, :])
+        self.ns = len(network.strands)
+
+    def matrix(self, taut: tuple[bool, ...], t_mid: float):
+        from beltcalc.sim.core import augmented_matrix
+
+        base = self._base.get(t_mid)
+        if base is None:
+            F = augmented_matrix(self.network, self.none, t_mid) / self.S[:, None] * self.S[None, :]
+            r, c = np.nonzero(F)
+            base = self._base[t_mid] = (r, c, F[r, c])
+        sel = np.asarray(taut, dtype=bool)[self.owner]
+        rows = np.concatenate([base[0], self.r[sel]])
+        cols = np.concatenate([base[1], self.c[sel]])
+        vals = np.concatenate([base[2], self.v[sel]])
+        m = self.S.size
+        F = self.sparse.csr_matrix((vals, (rows, cols)), shape=(m, m))
+        F.sum_duplicates()            # one entry per place: the norm must not count cancelling parts twice
+        return F
+
+    def rows(self, taut: tuple[bool, ...]):
+        """The event rows in :meth:`Network.events` order: taut (force, delta), slack (delta, force)."""
+        on = np.asarray(taut, dtype=bool)
+        k = np.arange(self.ns)
+        first, second = np.where(on, k, self.ns + k), np.where(on, self.ns + k, k)
+        return self.rows_all[np.stack([first, second], axis=1).ravel()]
 
 
 class _Cache:
     """Modes by (pattern, time piece), least recently used dropped beyond CACHE_BYTES."""
 
-    def __init__(self, network, S, omega, scale):
-        self.network, self.S, self.omega, self.scale = network, S, omega, scale
+    def __init__(self, network, S, omega, scale, parts=None):
+        self.network, self.S, self.omega, self.scale, self.parts = network, S, omega, scale, parts
         self.modes: OrderedDict = OrderedDict()
         self.built = 0
+        self.bytes = 0
 
     def get(self, taut, seg, t_mid) -> Mode:
         key = (taut, seg)
         mode = self.modes.get(key)
         if mode is None:
-            mode = self.modes[key] = Mode(self.network, taut, t_mid, self.S, self.omega, self.scale)
+            mode = self.modes[key] = Mode(self.network, taut, t_mid, self.S, self.omega, self.scale, self.parts)
             self.built += 1
-            while len(self.modes) > 2 and sum(m.nbytes for m in self.modes.values()) > CACHE_BYTES:
-                self.modes.popitem(last=False)
+            self.bytes += mode.nbytes
+            while len(self.modes) > 2 and self.bytes > CACHE_BYTES:
+                self.bytes -= self.modes.popitem(last=False)[1].nbytes
         self.modes.move_to_end(key)
         return mode
 
@@ -272,11 +399,15 @@ class Run:
         self.ends = self.starts[1:] + [t_end]
         all_taut = tuple(True for _ in network.strands)
         F0 = augmented_matrix(network, all_taut, network.piece_time(0, self.starts, t_end))
-        self.S = balance(F0)
+        self.S = self._scaling(F0)
         n = network.size
-        lam = np.linalg.eigvals(F0[:n, :n]) if n else np.zeros(0)
-        omega = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
-        self.cache = _Cache(network, self.S, omega, scale)
+        parts = None
+        if F0.shape[0] >= SPARSE_SIZE and network.strands:
+            parts, omega = _SparseParts(network, self.S), 0.0     # no stiff ladder on the sparse path
+        else:
+            lam = np.linalg.eigvals(F0[:n, :n]) if n else np.zeros(0)
+            omega = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
+        self.cache = _Cache(network, self.S, omega, scale, parts)
         self.m = n
         self.out = np.empty((n, t.size))
         self.next_out = 0
@@ -289,6 +420,33 @@ class Run:
         z = np.concatenate([x0, network.generators(0.0)]) / self.S
         self.start_taut = self.decide(z, all_taut, 0, list(range(len(network.strands))))
         self.z0 = z
+
+    def _scaling(self, F0: np.ndarray) -> np.ndarray:
+        """S balancing the all-taut matrix, with the constant input's column scaled down (a
+        power of two) until it is no longer than the state columns in *any* strand pattern.
+        Pretensions cancel on a node between two taut strands but not when one is slack:
+        unscaled, that column sets ``||F~||`` (and the step) in every pattern with slack
+        strands, 8x on a 60-roller chain, for an input that is constant."""
+        from beltcalc.sim.core import augmented_matrix
+
+        S = balance(F0)
+        if not self.network.strands:
+            return S
+        net, c = self.network, self.network.size
+        owner, rows, cols, vals = net.strand_stamps()
+        none = tuple(False for _ in net.strands)
+        worst = 0.0
+        for seg in range(len(self.starts)):
+            base = augmented_matrix(net, none, net.piece_time(seg, self.starts, self.t_end))[:, c]
+            col = np.abs(base) / S
+            np.add.at(col, rows[cols == c], np.abs(vals[cols == c]) / S[rows[cols == c]])
+            worst = max(worst, float(col.sum() * S[c]))
+        Ft = np.abs(F0 / S[:, None] * S[None, :])
+        target = float(np.delete(Ft.sum(axis=0), c).max()) if Ft.shape[0] > 1 else 0.0
+        if worst > target > 0:
+            S = S.copy()
+            S[c] *= 2.0 ** -math.ceil(math.log2(worst / target))
+        return S
 
     # --- outputs ------------------------------------------------------------------------------
     def emit(self, mode: Mode, base: np.ndarray, t_base: np.ndarray, until: float, inclusive: bool = False) -> None:
@@ -321,7 +479,7 @@ class Run:
             return taut
         t_mid = self.network.piece_time(seg, self.starts, self.t_end)
         here = self.cache.get(taut, seg, t_mid)
-        V = _taylor(here.Ft, z, here.L)
+        V = here.taylor(z)
         dv, fv = self.delta @ z, self.force @ z
         on_d = np.abs(dv) <= self._levels(self.delta, V)
         on_f = np.abs(fv) <= self._levels(self.force, V)
@@ -335,7 +493,7 @@ class Run:
             for k in near:
                 trial = tuple(pattern[:k] + [True] + pattern[k + 1:])
                 mode = self.cache.get(trial, seg, t_mid)
-                Vt = _taylor(mode.Ft, z, mode.L)
+                Vt = mode.taylor(z)
                 up = self._leaves_up(self.delta[k], Vt, on_d[k]) and self._leaves_up(self.force[k], Vt, on_f[k])
                 if pattern[k] != up:
                     pattern[k], changed = up, True
@@ -363,14 +521,15 @@ class Run:
         return True if big.size == 0 else bool(c[1 + big[0]] > 0)
 
     # --- scanning -----------------------------------------------------------------------------
-    def _scan_exact(self, mode: Mode, Z: np.ndarray, first: bool, limit: float = 1.0):
+    def _scan_exact(self, mode: Mode, Z: np.ndarray, first: bool, limit: float = 1.0, C: np.ndarray | None = None):
         """The first crossing on the bottom steps Z[i] -> Z[i+1] (rows): (i, s, event) or None.
-        ``first``: Z[0] is a restart point. ``limit``: fraction of the last step to examine."""
+        ``first``: Z[0] is a restart point. ``limit``: fraction of the last step to examine.
+        ``C``: the steps' polynomial coefficients when the orbit already has them."""
         if not mode.events:
             return None
         count = Z.shape[0] - 1
-        E = len(mode.events)
-        C = (mode.R.reshape(TERMS * E, -1) @ Z[:count].T).reshape(TERMS, E, count)
+        if C is None:
+            C = mode.coeffs(Z[:count])
         tol = ROUND * (mode.absH @ np.abs(Z[:count]).T)  + 1e-300            # (E, count)
         reach = np.abs(C[1:]).sum(axis=0)
         cand = (np.abs(C[0]) <= reach + tol) & (reach + np.abs(C[0]) > tol)
@@ -428,16 +587,19 @@ class Run:
         if rem <= 4 * EPS * max(abs(t_stop), h):
             rem = 0.0
         i, block, first = 0, 8, True
-        P0 = mode.P(0)
+        most = max(8, int(SPARSE_BLOCK / (TERMS * max(1, len(mode.events))))) if mode.sparse else MAX_BLOCK
         while i < n_full:
-            cnt = min(block, n_full - i)
-            Z = _orbit(P0, z, cnt + 1)
+            cnt = min(block, n_full - i, most)
             times = t0 + (i + np.arange(cnt + 1)) * h
             if mode.K == 0:
-                hit = self._scan_exact(mode, Z, first)
+                Z, C = mode.orbit(z, cnt, stop_early=True)
+                cnt = Z.shape[0] - 1
+                times = times[:cnt + 1]
+                hit = self._scan_exact(mode, Z, first, C=C)
                 found = None if hit is None else (hit[0], hit[1] * h, hit[2])
                 self.steps += cnt
             else:
+                Z = _orbit(mode.P(0), z, cnt + 1)
                 found = None
                 flags = self._hermite(mode, Z[:-1], Z[1:], h)
                 if first:
@@ -459,8 +621,8 @@ class Run:
         if rem > 0:
             t_last = t0 + n_full * h
             if mode.K == 0:
-                Z = np.vstack([z, P0 @ z])
-                hit = self._scan_exact(mode, Z, first, rem / h)
+                Z, C = mode.orbit(z, 1)
+                hit = self._scan_exact(mode, Z, first, rem / h, C=C)
                 found = None if hit is None else (hit[1] * h, hit[2])
             else:
                 found = self._descend(mode, z, 0, first, rem / h)

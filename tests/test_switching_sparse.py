@@ -1,0 +1,86 @@
+"""The sparse path of the switching core (large networks) against the dense one.
+
+Both propagate the same exact solution: the dense path by ``expm`` of the bottom step and
+its doubling orbit, the sparse path by the Taylor sum of sparse products step by step,
+with F~ assembled from the strands' stamps. They share no propagator, so agreement of the
+switch sequences and of the trajectories checks the sparse assembly and stepping.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from beltcalc.sim import switching
+from beltcalc.sim.core import augmented_matrix
+from beltcalc.sim.network import Inertia, Load, Network, Strand
+from beltcalc.sim.scenes import roller_table
+from test_switching_reference import bounce_sequence, bouncing_net, params
+
+
+@pytest.mark.parametrize("over", [{}, {"rollers": 5.0, "pretension": 0.0}])
+def test_stamps_rebuild_every_strand_pattern(over):
+    # [A | B] of a pattern = the all-slack one + the taut strands' stamps, for random patterns
+    net = roller_table.build(params(**over))
+    owner, rows, cols, vals = net.strand_stamps()
+    ns = len(net.strands)
+    rng = np.random.default_rng(7)
+    base = augmented_matrix(net, (False,) * ns, 4.0)
+    for _ in range(6):
+        taut = tuple(bool(b) for b in rng.integers(0, 2, ns))
+        built = base.copy()
+        sel = np.asarray(taut)[owner]
+        np.add.at(built, (rows[sel], cols[sel]), vals[sel])
+        want = augmented_matrix(net, taut, 4.0)
+        assert_allclose(built, want, rtol=0, atol=4e-16 * np.abs(want).max())
+
+
+def run(net, t, x0, sparse):
+    old = switching.SPARSE_SIZE
+    switching.SPARSE_SIZE = 1 if sparse else 10**9
+    try:
+        r = switching.Run(net, t, x0, 100_000).run()
+    finally:
+        switching.SPARSE_SIZE = old
+    return r
+
+
+@pytest.mark.parametrize("over", [{"pretension": 0.0, "t_end": 1.0},
+                                  {"load_amplitude": 70.0, "load_frequency": 50.0, "t_end": 3.6}])
+def test_sparse_path_matches_dense_on_the_roller_table(over):
+    # zero pretension (the start-up's six switches; later ones inherit the case's genuine
+    # sensitivity, docs/switching.md), and a pulsating load (dozens of switches): same switch
+    # sequence to 1e-9 s, same speeds to 1e-8 of their scale (measured 3e-9: the two
+    # propagators' rounding, carried through the switches)
+    p = params(**over)
+    net = roller_table.build(p)
+    t = np.linspace(0.0, p["t_end"], 801)
+    x0 = np.zeros(net.size)
+    dense, sparse = run(net, t, x0, False), run(net, t, x0, True)
+    assert sparse.cache.parts is not None and dense.cache.parts is None
+    assert len(dense.switches) >= 4
+    assert [(k, on) for _, k, on in sparse.switches] == [(k, on) for _, k, on in dense.switches]
+    assert_allclose([s[0] for s in sparse.switches], [s[0] for s in dense.switches], rtol=0, atol=1e-9)
+    n = net.n
+    scale = np.abs(dense.out[n:2 * n]).max()
+    assert_allclose(sparse.out[n:2 * n], dense.out[n:2 * n], rtol=0, atol=1e-8 * scale)
+
+
+def test_sparse_path_bounces_like_the_closed_form():
+    # the bouncing contact (tests/test_switching_reference.py) on the sparse path
+    seq = bounce_sequence()
+    net, x0 = bouncing_net()
+    r = run(net, np.linspace(0.0, 1.0, 201), x0, True)
+    assert [on for _, _, on in r.switches] == [on for _, on in seq["switches"]]
+    assert_allclose([s[0] for s in r.switches], [s for s, _ in seq["switches"]], rtol=0, atol=1e-9)
+
+
+def test_sparse_path_without_strand_events_in_a_mode():
+    # a network whose strand never takes up in the run: no switch, the free flight exact
+    net = Network([Inertia("m", 1.0, translation=True)], [], [Load("m", mean=1.0)],
+                  strands=[Strand("s", "m", None, 1.0, 1.0, 1e4, 1.0, 0.0)])
+    t = np.linspace(0.0, 1.0, 11)
+    r = run(net, t, np.array([-0.1, 0.0]), True)
+    assert r.switches == []
+    assert_allclose(r.out[0], -0.1 - 0.5 * t * t, rtol=1e-13, atol=1e-15)

@@ -137,8 +137,10 @@ def test_csv_time_series(tmp_path):
     for name in STRANDS:
         force = s[f"F_{name}_N"]
         assert force.min() >= 0.0, name                              # tension only
-        # the JSON's whole-run extremes are the CSV's (10 significant digits)
-        assert out["strands"][name]["force_max"]["value"] == pytest.approx(force.max(), rel=1e-9), name
+        # the JSON's whole-run maximum is the exact one (off the exact solution, not the samples):
+        # at least the CSV's largest sample, at most that plus the largest change between samples
+        top = out["strands"][name]["force_max"]["value"]
+        assert force.max() * (1 - 1e-9) <= top <= force.max() + np.max(np.abs(np.diff(force))), name
         # the time slack is the zero-force samples' share, to the samples' resolution
         assert out["strands"][name]["slack_time"]["value"] == pytest.approx(np.sum(force[1:] == 0.0) * dt,
                                                                             abs=2 * dt), name
@@ -241,9 +243,11 @@ def test_radau_agrees_with_exact():
     assert radau["error_reference"] == "exact solution"
     assert radau["rhs_calls"] > 0 and exact["rhs_calls"] == 0
     assert radau["events"] == exact["events"]
-    assert radau["motor"]["speed_mean"]["value"] == pytest.approx(exact["motor"]["speed_mean"]["value"], rel=1e-5)
+    # exact: the window mean is the exact integral; radau: the trapezoid over its 501 samples
+    # (dt = 5 ms, 0.5 rad of the rollers' 100 rad/s oscillation: measured 2.7e-5 apart)
+    assert radau["motor"]["speed_mean"]["value"] == pytest.approx(exact["motor"]["speed_mean"]["value"], rel=1e-4)
     for k in ("1", "3"):
         assert radau["rollers"][k]["speed_mean"]["value"] == pytest.approx(
-            exact["rollers"][k]["speed_mean"]["value"], rel=1e-5), k
+            exact["rollers"][k]["speed_mean"]["value"], rel=1e-4), k
     # radau's own report of its distance to exact, at rtol 1e-8 on ~150 rad/s
     assert radau["error_estimate"]["value"] == pytest.approx(0.0, abs=1e-3)

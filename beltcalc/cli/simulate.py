@@ -523,8 +523,12 @@ def _roller_run(values: dict, cfg, flags: dict, errors: bool) -> Outcome:
 
     samples = check_timing(values)
     net = rt.build(values)
-    result = run(net, values["t_end"], samples, cfg if errors else replace(cfg, estimate_error=False))
     w0, n = values["window"], int(values["rollers"])
+    watched = [f"{kind}{k}" for k in range(1, n + 1) for kind in ("omega_end", "T_shaft", "T_tube")]
+    watched = [w + "a" if w.startswith("omega_end") else w for w in watched]
+    watched += ["omega_motor", "M_motor"] + [f"F_{s.name}" for s in net.strands]
+    result = run(net, values["t_end"], samples, cfg if errors else replace(cfg, estimate_error=False),
+                 watch=(watched, (0.0, w0)))
     sections = []
     for k in range(1, n + 1):
         speed = result.summary(f"omega_end{k}a", w0)
@@ -540,19 +544,19 @@ def _roller_run(values: dict, cfg, flags: dict, errors: bool) -> Outcome:
                  "to the far end)", item=str(k)))
     slack = result.extra.get("slack_time", {})
     for s in net.strands:
-        force = result[f"F_{s.name}"]
+        force = result.summary(f"F_{s.name}", 0.0)
         sections.append(Section(("strands", s.name), s.name, [
-            Row("force_min", "force min", float(force.min()), "N"),
-            Row("force_max", "force max", float(force.max()), "N"),
+            Row("force_min", "force min", force.min, "N"),
+            Row("force_max", "force max", force.max, "N"),
             Row("slack_time", "time slack", float(slack.get(s.name, 0.0)), "s"),
-            Row("safety", "breaking load / max", values["chain_breaking_load"] / max(float(force.max()), 1e-300), "1",
+            Row("safety", "breaking load / max", values["chain_breaking_load"] / max(force.max, 1e-300), "1",
                 digits=3),
         ], group="chain strands, whole run (tension only; slack = no force)", item=s.name))
     speed, torque = result.summary("omega_motor", w0), result.summary("M_motor", w0)
-    peak = float(abs(result["M_motor"]).max())
+    whole = result.summary("M_motor", 0.0)
+    peak = max(abs(whole.min), abs(whole.max))
     start = values["load_start"] if values["load_start"] > 0 else values["t_end"]
-    pre = result.window(0.9 * start, start)
-    target = float(result["omega_end1a"][pre].mean())
+    target = result.summary("omega_end1a", 0.9 * start, start).mean
     settle = result.settle_time("omega_end1a", target, values["settle_tolerance"] * abs(target), 0.0, start)
     sections.append(Section(("motor",), f"motor, t >= {w0:g} s", [
         Row("speed_mean", "speed, mean", speed.mean, "rad/s", "rpm", digits=5),

@@ -126,7 +126,7 @@ def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
-def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, scale: float = 1.0):
+def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, scale: float = 1.0, watch=None):
     """The exact solution: one linear system over the run, or piecewise between strand switches
     and time break points (:mod:`beltcalc.sim.switching`). ``scale`` != 1 runs another internal
     partition (the error estimate's second computation)."""
@@ -134,7 +134,7 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, s
         raise InputError("the exact method needs a network that is linear between switches; this one has "
                          "loads locked to a shaft angle: use --method radau (or auto)", param="method")
     if not network.smooth:
-        out, steps, info = piecewise_exact(network, t, x0, cfg.max_events, scale)
+        out, steps, info = piecewise_exact(network, t, x0, cfg.max_events, scale, watch)
         return out, steps, 0, info
     dt = t[1] - t[0]
     F = augmented_matrix(network)
@@ -369,8 +369,13 @@ def choose_method(network: Network, requested: str) -> tuple[str, str]:
 
 
 def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = SolverConfig(),
-             x0: np.ndarray | None = None) -> SimResult:
+             x0: np.ndarray | None = None, watch: tuple | None = None) -> SimResult:
     """Integrate ``network`` from ``x0`` (rest by default) over [0, t_end] at ``samples`` points.
+
+    ``watch`` = (signal names, window starts): on the exact piecewise path, the result's
+    :meth:`SimResult.summary` over ``[start, t_end]`` then takes those signals' extremes off
+    the exact solution (:mod:`beltcalc.sim.watch`) and every linear signal's mean from the
+    exact integral of the state, independent of ``samples``.
 
     The only function that integrates; every scene calls it. With ``cfg.estimate_error`` the
     result carries an error estimate per speed signal (see :func:`estimate_error`); where it
@@ -387,7 +392,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
     method, reason = choose_method(network, cfg.method)
     x0 = _initial(network, x0)
     t = np.linspace(0.0, t_end, samples)
-    result = _run(network, t, x0, cfg, method, reason)
+    result = _run(network, t, x0, cfg, method, reason, watch=watch)
     if not cfg.estimate_error:
         return result
     estimate_error(result, network, x0, cfg)
@@ -395,7 +400,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
     if result.error_relative > cfg.error_tol and cfg.method == "auto" and method == "exact":
         # refine: a quarter of the internal step, checked against the first run
         fine = _run(network, t, x0, cfg, "exact", reason + "; refined to a quarter of the internal step",
-                    scale=0.25)
+                    scale=0.25, watch=watch)
         estimate_error(fine, network, x0, cfg, reference=(result.states, "exact at 4x the internal step"))
         tried.append(f"exact refined ({fine.error_relative:.1g})")
         if fine.error_relative <= cfg.error_tol:
@@ -429,16 +434,57 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
     return result
 
 
-def _run(network, t, x0, cfg, method, reason, scale: float = 1.0) -> SimResult:
+def _run(network, t, x0, cfg, method, reason, scale: float = 1.0, watch: tuple | None = None) -> SimResult:
     start = time.perf_counter()
+    spy = _watch(network, *watch) if watch and method == "exact" and not network.smooth else None
     if method == "exact":
-        x, steps, calls, extra = _exact(network, t, x0, cfg, scale)
+        x, steps, calls, extra = _exact(network, t, x0, cfg, scale, spy)
     else:
         x, steps, calls, extra = METHODS[method](network, t, x0, cfg)
     wall = time.perf_counter() - start
     if not np.all(np.isfinite(x)):
         raise SimulationError(f"method {method} gave non-finite values; try another --method")
-    return _outputs(network, t, x, method, reason, wall, steps, calls, extra)
+    result = _outputs(network, t, x, method, reason, wall, steps, calls, extra)
+    if spy is not None:
+        result.extremes = spy.result
+        result.integrals = extra.pop("integrals")
+        result.linear_rows = linear_rows(network)
+        result.signal_integrals = {f"F_{k}": v for k, v in extra.pop("force_integrals").items()}
+    return result
+
+
+def linear_rows(network: Network) -> dict[str, np.ndarray]:
+    """Rows over the state x of the signals linear in it: every state and coupling torque."""
+    m = network.size
+    eye = np.eye(m)
+    rows = {name: eye[k] for k, (name, _) in enumerate(network.state_names())}
+    for name, row in network.coupling_torques(eye).items():
+        rows[f"T_{name}"] = np.asarray(row, dtype=float)
+    return rows
+
+
+def _watch(network: Network, names, windows):
+    """A :class:`beltcalc.sim.watch.Watch` of the named signals (states, coupling torques,
+    strand forces) over the windows ``[start, t_end]``."""
+    from beltcalc.sim.watch import Watch
+
+    p = network.generators(0.0).size
+    lin = linear_rows(network)
+    _, force = network.strand_rows()
+    strands = {f"F_{s.name}": k for k, s in enumerate(network.strands)}
+    rows, strand, kept = [], [], []
+    for name in names:
+        if name in lin:
+            rows.append(np.concatenate([lin[name], np.zeros(p)]))
+            strand.append(-1)
+        elif name in strands:
+            rows.append(force[strands[name]])
+            strand.append(strands[name])
+        else:
+            continue                 # not linear in the state (accelerations, drive torques): sampled
+        kept.append(name)
+    size = network.size + p
+    return Watch(kept, np.array(rows).reshape(len(kept), size), np.array(strand, dtype=np.int64), list(windows))
 
 
 def conditioning(network: Network, t_end: float) -> float:

@@ -51,6 +51,10 @@ class SimResult:
     error_row: int = 0
     error_reference_states: np.ndarray | None = None
     warnings: list = field(default_factory=list)
+    integrals: np.ndarray | None = None
+    extremes: dict = field(default_factory=dict)
+    linear_rows: dict = field(default_factory=dict)
+    signal_integrals: dict = field(default_factory=dict)
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.signals[name]
@@ -61,12 +65,32 @@ class SimResult:
         return (self.t >= start - 1e-12) & (self.t <= end + 1e-12)
 
     def summary(self, name: str, start: float, end: float | None = None) -> Summary:
-        """Mean, amplitude (half peak-to-peak), RMS, min and max of a signal over a window."""
-        y = self.signals[name][self.window(start, end)]
+        """Mean, amplitude (half peak-to-peak), RMS, min and max of a signal over a window.
+
+        Off the exact solution where the run kept them (``watch`` of
+        :func:`beltcalc.sim.core.simulate`): the mean of a signal linear in the state, or of
+        a strand force, from the exact integral between the window's first and last
+        samples, and min/max over
+        ``[start, t_end]``; both then do not depend on the samples. Otherwise, and for the
+        RMS, from the samples (the mean by the trapezoid rule)."""
+        mask = self.window(start, end)
+        y = self.signals[name][mask]
         if y.size == 0:
             raise ValueError(f"no samples in the window {start:g}..{end} s")
         lo, hi = float(y.min()), float(y.max())
-        return Summary(float(y.mean()), 0.5 * (hi - lo), float(np.sqrt(np.mean(y * y))), lo, hi)
+        idx = np.nonzero(mask)[0]
+        a, b = idx[0], idx[-1]
+        # sampled: the trapezoid rule over the window (O(dt^2); the plain mean of the samples
+        # is O(dt) off the integral)
+        mean = float(np.trapezoid(y, self.t[idx]) / (self.t[b] - self.t[a])) if b > a else float(y[0])
+        if self.integrals is not None and name in self.linear_rows and b > a:
+            mean = float(self.linear_rows[name] @ (self.integrals[:, b] - self.integrals[:, a]) / (self.t[b] - self.t[a]))
+        elif name in self.signal_integrals and b > a:
+            cum = self.signal_integrals[name]
+            mean = float((cum[b] - cum[a]) / (self.t[b] - self.t[a]))
+        if (end is None or end >= self.t[-1]) and (name, float(start)) in self.extremes:
+            lo, hi = self.extremes[(name, float(start))]
+        return Summary(mean, 0.5 * (hi - lo), float(np.sqrt(np.mean(y * y))), lo, hi)
 
     def settle_time(self, name: str, target: float, band: float, start: float = 0.0,
                     end: float | None = None) -> float | None:

@@ -121,6 +121,7 @@ class Mode:
         self.events = network.events(taut)
         self.dirs = np.array([e.direction for e in self.events], dtype=float)
         self._P: dict[int, np.ndarray] = {}
+        self._Q: dict[int, np.ndarray] = {}
         self._R = None
         if self.sparse:
             self.Ft = parts.matrix(taut, t_mid)
@@ -162,18 +163,21 @@ class Mode:
             V[j] = self.Ms[j - 1] @ V[j - 1] if Z.ndim == 1 else (self.Ms[j - 1] @ V[j - 1].T).T
         return V
 
-    def orbit(self, z: np.ndarray, count: int, stop_early: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def orbit(self, z: np.ndarray, count: int, stop_early: bool = False, integrate: bool = False):
         """The states at ``count`` bottom steps from z (rows Z, count + 1 of them) and the
         switching functions' polynomial coefficients on each step, C (TERMS, events, count).
         ``stop_early`` (sparse): end the block after the first step where a switching
         function comes within its polynomial's reach of zero (nothing is propagated past a
-        switch only to be thrown away)."""
+        switch only to be thrown away). ``integrate``: also J, the integral of z over each
+        step (rows; None otherwise)."""
         if not self.sparse:
             Z = _orbit(self.P(0), z, count + 1)
-            return Z, self.coeffs(Z[:count])
+            return Z, self.coeffs(Z[:count]), (Z[:count] @ self.Q(0).T if integrate else None)
         Z = np.empty((count + 1, z.size))
         Z[0] = z
         C = np.empty((count, len(self.events), TERMS))
+        J = np.empty((count, z.size)) if integrate else None
+        weights = self.L / np.arange(1, TERMS + 1)
         V = np.empty((TERMS, z.size))
         Ms, H, absH = self.Ms, self.H, self.absH
         kernel = _csr_matvec
@@ -190,13 +194,15 @@ class Mode:
                 for j in range(1, TERMS):
                     V[j] = Ms[j - 1] @ V[j - 1]
             Z[i + 1] = V.sum(axis=0)
+            if integrate:
+                J[i] = weights @ V
             c = C[i] = H @ V.T
             if stop_early and i + 1 < count:           # a step where some function may reach zero: stop here
                 reach = np.abs(c[:, 1:]).sum(axis=1)
                 tol = ROUND * (absH @ np.abs(Z[i])) + 1e-300
                 if np.any((np.abs(c[:, 0]) <= reach + tol) & (reach + np.abs(c[:, 0]) > tol)):
-                    return Z[:i + 2], C[:i + 1].transpose(2, 1, 0)
-        return Z, C.transpose(2, 1, 0)
+                    return Z[:i + 2], C[:i + 1].transpose(2, 1, 0), (J[:i + 1] if integrate else None)
+        return Z, C.transpose(2, 1, 0), J
 
     def coeffs(self, Z: np.ndarray) -> np.ndarray:
         """C (TERMS, events, rows of Z): every switching function's polynomial on the bottom
@@ -219,6 +225,23 @@ class Mode:
                 self._P[level] = M
         return self._P[k]
 
+    def Q(self, k: int) -> np.ndarray:
+        """The integral of the ladder step, ``int_0^(h / 2^k) expm(F~ tau) d tau`` (dense): the
+        bottom one ``L phi_1(F~ L)`` by its Taylor series (Horner, exact to rounding like
+        the state's), the longer ones by ``Q_(k-1) = Q_k + P_k Q_k``."""
+        if k not in self._Q:
+            A = self.Ft * self.L
+            eye = np.eye(A.shape[0])
+            M = eye.copy()
+            for j in range(TERMS, 1, -1):
+                M = eye + (A @ M) / j
+            Q = self.L * M
+            self._Q[self.K] = Q
+            for level in range(self.K - 1, -1, -1):
+                Q = Q + self.P(level + 1) @ Q
+                self._Q[level] = Q
+        return self._Q[k]
+
     @property
     def R(self) -> np.ndarray:
         """R[j] = H (F~ L)^j / j!: the polynomial coefficients of every switching function on
@@ -232,11 +255,14 @@ class Mode:
             self._R = R
         return self._R
 
-    def at(self, z: np.ndarray, tau: np.ndarray | float) -> np.ndarray:
+    def at(self, z: np.ndarray, tau: np.ndarray | float, integrate: bool = False):
         """The exact state a time tau in [0, h] after z (rows of z for an array of tau):
-        the ladder for the whole bottom steps of tau, the Taylor sum for the rest."""
+        the ladder for the whole bottom steps of tau, the Taylor sum for the rest. With
+        ``integrate``: (state, integral of the state from 0 to tau), the integral summed
+        the same way (``Q`` per ladder step, ``L sum_j V_j s^(j+1) / (j+1)`` for the rest)."""
         tau = np.asarray(tau, dtype=float)
         Z = np.array(z, dtype=float, copy=True)
+        I = np.zeros_like(Z) if integrate else None
         if self.K:
             q = np.minimum(np.floor(tau / self.L), 2 ** self.K - 1).astype(np.int64)
             frac = tau / self.L - q
@@ -244,12 +270,20 @@ class Mode:
                 bit = (q >> (self.K - k)) & 1
                 if tau.ndim == 0:
                     if bit:
+                        if integrate:
+                            I = I + self.Q(k) @ Z
                         Z = self.P(k) @ Z
                 elif bit.any():
+                    if integrate:
+                        I[bit == 1] += Z[bit == 1] @ self.Q(k).T
                     Z[bit == 1] = Z[bit == 1] @ self.P(k).T
         else:
             frac = tau / self.L
-        return _horner(self.taylor(Z), frac)
+        V = self.taylor(Z)
+        if not integrate:
+            return _horner(V, frac)
+        W = V * (self.L / np.arange(1, TERMS + 1)).reshape((TERMS,) + (1,) * (V.ndim - 1))
+        return _horner(V, frac), I + _horner(W, frac) * (frac[:, None] if np.ndim(frac) else frac)
 
 
 class _SparseParts:
@@ -308,6 +342,7 @@ class _Cache:
         mode = self.modes.get(key)
         if mode is None:
             mode = self.modes[key] = Mode(self.network, taut, t_mid, self.S, self.omega, self.scale, self.parts)
+            mode.key = (taut, seg, t_mid)
             self.built += 1
             self.bytes += mode.nbytes
             while len(self.modes) > 2 and self.bytes > CACHE_BYTES:
@@ -389,7 +424,7 @@ class Run:
     """The exact piecewise propagation of one network over the output times ``t``."""
 
     def __init__(self, network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0,
-                 method: str = "exact"):
+                 method: str = "exact", integrate: bool = False, watch=None):
         from beltcalc.sim.core import augmented_matrix
 
         self.network, self.t, self.max_events, self.method = network, t, max_events, method
@@ -411,6 +446,15 @@ class Run:
         self.m = n
         self.out = np.empty((n, t.size))
         self.next_out = 0
+        self.integrate = integrate or watch is not None
+        self.integrals = np.empty((n, t.size)) if self.integrate else None
+        ns = len(network.strands)
+        self.force_integrals = np.empty((ns, t.size)) if self.integrate else None   # int of F dt
+        self.F_run = np.zeros(ns)            # ... up to the current piece's start
+        self.I_piece = None
+        self.I_run = None                    # integral of z from 0 to the current point (balanced)
+        self.watch = watch
+        self.piece_ends: list[float] = []
         self.switches: list[tuple[float, int, bool]] = []
         self.located = 0
         self.steps = 0
@@ -418,6 +462,9 @@ class Run:
         self.delta = delta * self.S[None, :]
         self.force = force * self.S[None, :]
         z = np.concatenate([x0, network.generators(0.0)]) / self.S
+        self.I_run = np.zeros_like(z)
+        if watch is not None:
+            watch.bind(self)
         self.start_taut = self.decide(z, all_taut, 0, list(range(len(network.strands))))
         self.z0 = z
 
@@ -449,9 +496,11 @@ class Run:
         return S
 
     # --- outputs ------------------------------------------------------------------------------
-    def emit(self, mode: Mode, base: np.ndarray, t_base: np.ndarray, until: float, inclusive: bool = False) -> None:
+    def emit(self, mode: Mode, base: np.ndarray, t_base: np.ndarray, until: float, inclusive: bool = False,
+             I_base: np.ndarray | None = None) -> None:
         """Write the output samples with t < until (<= with ``inclusive``), each read off the
-        exact solution from the step start before it (rows of ``base`` at times ``t_base``)."""
+        exact solution from the step start before it (rows of ``base`` at times ``t_base``,
+        where the state's integral from 0 is ``I_base``)."""
         t = self.t
         stop = int(np.searchsorted(t, until, side="right" if inclusive else "left"))
         if stop <= self.next_out:
@@ -459,7 +508,14 @@ class Run:
         idx = np.arange(self.next_out, stop)
         k = np.clip(np.searchsorted(t_base, t[idx], side="right") - 1, 0, len(t_base) - 1)
         tau = np.clip(t[idx] - t_base[k], 0.0, mode.h)
-        Z = mode.at(base[k], tau)
+        if self.integrate:
+            Z, I = mode.at(base[k], tau, integrate=True)
+            I += I_base[k]
+            self.integrals[:, idx] = (I * self.S[None, :]).T[:self.m]
+            on = np.asarray(mode.taut, dtype=float)
+            self.force_integrals[:, idx] = self.F_run[:, None] + on[:, None] * (self.force @ (I - self.I_piece).T)
+        else:
+            Z = mode.at(base[k], tau)
         self.out[:, idx] = (Z * self.S[None, :]).T[:self.m]
         self.next_out = stop
 
@@ -588,11 +644,14 @@ class Run:
             rem = 0.0
         i, block, first = 0, 8, True
         most = max(8, int(SPARSE_BLOCK / (TERMS * max(1, len(mode.events))))) if mode.sparse else MAX_BLOCK
+        integ = self.integrate
+        self.I_piece = self.I_run
         while i < n_full:
             cnt = min(block, n_full - i, most)
             times = t0 + (i + np.arange(cnt + 1)) * h
+            J = None
             if mode.K == 0:
-                Z, C = mode.orbit(z, cnt, stop_early=True)
+                Z, C, J = mode.orbit(z, cnt, stop_early=True, integrate=integ)
                 cnt = Z.shape[0] - 1
                 times = times[:cnt + 1]
                 hit = self._scan_exact(mode, Z, first, C=C)
@@ -610,31 +669,57 @@ class Run:
                         found = (int(j), res[0], res[1])
                         break
                 self.steps += cnt if found is None else int(found[0]) + 1
+                if integ:
+                    J = Z[:cnt] @ mode.Q(0).T
+            Ib = None
+            if integ:                                  # the integral at every step point
+                Ib = np.empty((cnt + 1, z.size))
+                Ib[0] = self.I_run
+                np.cumsum(J, axis=0, out=Ib[1:])
+                Ib[1:] += self.I_run
             if found is not None:
                 j, tau, e = found
                 te = times[j] + tau
-                self.emit(mode, Z[:j + 1], times[:j + 1], te)
-                return te, mode.at(Z[j], tau), e
-            self.emit(mode, Z[:cnt], times[:cnt], times[cnt])
+                self.emit(mode, Z[:j + 1], times[:j + 1], te, I_base=Ib)
+                if integ:
+                    z_e, I_e = mode.at(Z[j], tau, integrate=True)
+                    self.I_run = Ib[j] + I_e
+                else:
+                    z_e = mode.at(Z[j], tau)
+                self._watch(mode, np.vstack([Z[:j + 1], z_e]), np.append(times[:j + 1], te), t0)
+                return te, z_e, e
+            self.emit(mode, Z[:cnt], times[:cnt], times[cnt], I_base=Ib)
+            self._watch(mode, Z, times, t0)
+            if integ:
+                self.I_run = Ib[cnt]
             z, i, first = Z[cnt], i + cnt, False
             block = min(2 * block, MAX_BLOCK)
         if rem > 0:
             t_last = t0 + n_full * h
             if mode.K == 0:
-                Z, C = mode.orbit(z, 1)
+                Z, C, _ = mode.orbit(z, 1)
                 hit = self._scan_exact(mode, Z, first, rem / h, C=C)
                 found = None if hit is None else (hit[1] * h, hit[2])
             else:
                 found = self._descend(mode, z, 0, first, rem / h)
             self.steps += 1
-            if found is not None:
-                tau, e = found
-                te = t_last + tau
-                self.emit(mode, z[None], np.array([t_last]), te)
-                return te, mode.at(z, tau), e
-            self.emit(mode, z[None], np.array([t_last]), t_stop)
-            return t_stop, mode.at(z, rem), None
+            tau, e = found if found is not None else (rem, None)
+            te = t_last + tau
+            self.emit(mode, z[None], np.array([t_last]), te if found is not None else t_stop,
+                      I_base=self.I_run[None] if integ else None)
+            if integ:
+                z_e, I_e = mode.at(z, tau, integrate=True)
+                self.I_run = self.I_run + I_e
+            else:
+                z_e = mode.at(z, tau)
+            self._watch(mode, np.vstack([z, z_e]), np.array([t_last, te]), t0)
+            return (te, z_e, e) if found is not None else (t_stop, z_e, None)
+        self._watch(mode, z[None], np.array([t_stop]), t0)
         return t_stop, z, None
+
+    def _watch(self, mode: Mode, Z: np.ndarray, times: np.ndarray, t0: float) -> None:
+        if self.watch is not None:
+            self.watch.update(mode, Z, times, len(self.piece_ends))
 
     def run(self) -> "Run":
         net = self.network
@@ -647,6 +732,9 @@ class Run:
                 continue
             mode = self.cache.get(taut, seg, net.piece_time(seg, self.starts, self.t_end))
             t_new, z, e = self.advance(mode, z, t_cur, t_stop)
+            self.piece_ends.append(t_new)
+            if self.integrate:
+                self.F_run = self.F_run + np.asarray(mode.taut, dtype=float) * (self.force @ (self.I_run - self.I_piece))
             if e is None:
                 t_cur, seg = t_stop, seg + 1
                 if seg < len(self.starts):           # the inputs change piece: re-decide strands on a surface
@@ -664,8 +752,12 @@ class Run:
             self._log(t_new, taut, new)
             taut, t_cur = new, t_new
         mode = self.cache.get(taut, len(self.starts) - 1, net.piece_time(len(self.starts) - 1, self.starts, self.t_end))
-        self.emit(mode, z[None], np.array([self.t_end]), self.t_end, inclusive=True)
+        self.I_piece = self.I_run
+        self.emit(mode, z[None], np.array([self.t_end]), self.t_end, inclusive=True,
+                  I_base=self.I_run[None] if self.integrate else None)
         self.end_taut = taut
+        if self.watch is not None:
+            self.watch.finish()
         return self
 
     def _log(self, t: float, before, after) -> None:
@@ -697,7 +789,13 @@ def slack_times(network, start: tuple[bool, ...], log: list[tuple[float, int, bo
     return slack
 
 
-def piecewise_exact(network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0):
-    """Exact propagation between strand switches and time break points: (states, steps, info)."""
-    run = Run(network, t, x0, max_events, scale).run()
-    return run.out, run.steps, run.info()
+def piecewise_exact(network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0, watch=None):
+    """Exact propagation between strand switches and time break points: (states, steps, info).
+    With a ``watch`` (:class:`beltcalc.sim.watch.Watch`), its extremes are filled and
+    ``info["integrals"]`` holds the states' integrals from 0 at every sample."""
+    run = Run(network, t, x0, max_events, scale, watch=watch).run()
+    info = run.info()
+    if watch is not None:
+        info["integrals"] = run.integrals
+        info["force_integrals"] = {s.name: run.force_integrals[k] for k, s in enumerate(network.strands)}
+    return run.out, run.steps, info

@@ -106,3 +106,39 @@ def test_dense_reach_bound_never_misses_a_step_the_exact_polynomial_flags():
         assert not np.any(exact & ~flagged)
         checked += int(exact.sum())
     assert checked > 0
+
+
+def test_auto_does_not_start_a_radau_fallback_it_cannot_finish(monkeypatch):
+    # the fallback is skipped above RADAU_FALLBACK_WORK (strand events x states^2) and the
+    # one-line failure says so; here forced on the 3-roller table without pretension
+    from beltcalc.errors import SimulationError
+    from beltcalc.sim import core
+
+    monkeypatch.setattr(core, "RADAU_FALLBACK_WORK", 0.0)
+    net = roller_table.build(params(pretension=0.0))
+    with pytest.raises(SimulationError) as err:
+        core.simulate(net, 1.0, 201, core.SolverConfig("auto", error_tol=1e-15))
+    text = str(err.value)
+    assert "\n" not in text and "not radau (" in text and "too long" in text
+
+
+def test_sampled_derivative_by_stamps_equals_the_per_pattern_matrices():
+    # Network.derivative assembles taut strands by their stamps; against A(pattern) x + B g
+    # sample by sample (zero pretension: many patterns). Both cancel stiffness terms of ~1e11
+    # (angles of hundreds of radians), so they agree to rounding of that size, not of x'
+    from beltcalc.sim.core import SolverConfig, simulate
+
+    p = params(pretension=0.0, rollers=5.0)
+    net = roller_table.build(p)
+    r = simulate(net, 6.0, 1201, SolverConfig("exact", estimate_error=False))
+    x, t = r.states, r.t
+    taut = net.taut_of(x, t)
+    assert len({tuple(c) for c in taut.T}) >= 5
+    starts = net.segment_starts(6.0)
+    ref = np.empty_like(x)
+    for j in range(x.shape[1]):
+        seg = int(np.searchsorted(starts, t[j], side="right") - 1)
+        A, B = net.first_order(tuple(taut[:, j]), net.piece_time(seg, starts, 6.0))
+        ref[:, j] = A @ x[:, j] + B @ net.generators(t[j])
+    size = np.abs(net.state_matrix()).max() * np.abs(x).max()
+    assert_allclose(net.derivative(t, x), ref, rtol=0, atol=1e-14 * size)

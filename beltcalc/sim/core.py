@@ -64,6 +64,9 @@ class SolverConfig:
     accept_error: bool = False
 
 
+RADAU_FALLBACK_WORK = 2e6   # strand events x states^2 above which auto's Radau fallback is not tried
+
+
 class _Budget(Exception):
     pass
 
@@ -408,11 +411,18 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
         tight = SolverConfig("radau", max(1e-13, min(cfg.rtol, cfg.error_tol / 100)),  # scipy's floor is 2.2e-14
                              max(1e-16, min(cfg.atol, cfg.error_tol * 1e-4)),
                              cfg.max_rhs_calls, cfg.max_events, True, cfg.error_tol, cfg.accept_error)
-        try:
-            radau = _run(network, t, x0, tight, "radau",
-                         "auto: the exact method's estimate exceeded the tolerance; Radau with events")
-        except SimulationError:
-            radau = None
+        radau = None
+        located = int(fine.extra.get("located", 0))
+        if located * network.size ** 2 > RADAU_FALLBACK_WORK:
+            # Radau restarts (a dense LU) at every switch: 30 rollers (127 switches, 245 states)
+            # do not finish in 10 minutes (benchmarks/results/roller_scaling.md); not tried
+            tried.append(f"not radau ({located} strand events x {network.size} states: too long)")
+        else:
+            try:
+                radau = _run(network, t, x0, tight, "radau",
+                             "auto: the exact method's estimate exceeded the tolerance; Radau with events")
+            except SimulationError:
+                radau = None
         if radau is not None:
             estimate_error(radau, network, x0, tight, reference=(fine.states, "the refined exact run"))
             tried.append(f"radau ({radau.error_relative:.1g})")

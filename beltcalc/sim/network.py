@@ -309,6 +309,7 @@ class Network:
                 self._G[k, self.index[s.j]] -= s.r_j
         self._cache: dict = {}
         self._rows = None
+        self._stamps = None
         self.taut = tuple(True for _ in self.strands)
         self.K, self.D = self.stiffness_damping(self.taut)
 
@@ -654,11 +655,32 @@ class Network:
         taut = self.taut_of(X, T) if self.strands else np.ones((0, X.shape[1]), bool)
         G = self.generators(T)
         out = np.empty_like(X)
-        keys = [tuple(taut[:, j]) + (int(seg[j]),) for j in range(X.shape[1])]
-        for key in set(keys):
-            cols = [j for j, k in enumerate(keys) if k == key]
-            A, B = self.first_order(key[:-1], self.piece_time(key[-1], starts, t_end), constrained)
-            out[:, cols] = A @ X[:, cols] + B @ G[:, cols]
+        if self.strands and (constrained or not self.fixed):
+            # strand-affine: the all-slack matrices per time piece, plus every taut strand's
+            # stamp (strand_stamps) sample by sample; no dense matrix per strand pattern (a
+            # long chain has nearly one pattern per sample)
+            none = tuple(False for _ in self.strands)
+            for sg in np.unique(seg):
+                cols = seg == sg
+                A, B = self.first_order(none, self.piece_time(int(sg), starts, t_end), constrained)
+                out[:, cols] = A @ X[:, cols] + B @ G[:, cols]
+            if self._stamps is None:
+                self._stamps = self.strand_stamps()
+            owner, rows, where, vals = self._stamps
+            Z = np.vstack([X, G])
+            for a in range(0, X.shape[1], 512):
+                b = min(a + 512, X.shape[1])
+                part = np.zeros((self.size, b - a))
+                np.add.at(part, rows, vals[:, None] * Z[where, a:b] * taut[owner, a:b])
+                out[:, a:b] += part
+        else:
+            keys = np.concatenate([taut, seg[None, :]]).T
+            uniq, inverse = np.unique(keys, axis=0, return_inverse=True)
+            for q, key in enumerate(uniq):
+                cols = inverse.ravel() == q
+                A, B = self.first_order(tuple(bool(v) for v in key[:-1]),
+                                        self.piece_time(int(key[-1]), starts, t_end), constrained)
+                out[:, cols] = A @ X[:, cols] + B @ G[:, cols]
         if not self.linear:
             out += self.nonlinear_terms(T, X, constrained)
         return out[:, 0] if single else out

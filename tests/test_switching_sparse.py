@@ -142,3 +142,12 @@ def test_sampled_derivative_by_stamps_equals_the_per_pattern_matrices():
         ref[:, j] = A @ x[:, j] + B @ net.generators(t[j])
     size = np.abs(net.state_matrix()).max() * np.abs(x).max()
     assert_allclose(net.derivative(t, x), ref, rtol=0, atol=1e-14 * size)
+
+
+def test_sparse_path_without_scipys_private_kernel(monkeypatch):
+    # the CSR kernel is scipy's private csr_matvec; without it the public product runs, same result
+    seq = bounce_sequence()
+    net, x0 = bouncing_net()
+    monkeypatch.setattr(switching, "_csr_matvec", None)
+    r = run(net, np.linspace(0.0, 1.0, 201), x0, True)
+    assert_allclose([s[0] for s in r.switches], [s for s, _ in seq["switches"]], rtol=0, atol=1e-9)

@@ -726,10 +726,10 @@ class Run:
                     self.I_run = Ib[j] + I_e
                 else:
                     z_e = mode.at(Z[j], tau)
-                self._watch(mode, np.vstack([Z[:j + 1], z_e]), np.append(times[:j + 1], te), t0)
+                self._watch(mode, np.vstack([Z[:j + 1], z_e]), np.append(times[:j + 1], te))
                 return te, z_e, e
             self.emit(mode, Z[:cnt], times[:cnt], times[cnt], I_base=Ib)
-            self._watch(mode, Z, times, t0)
+            self._watch(mode, Z, times)
             if integ:
                 self.I_run = Ib[cnt]
             z, i, first = Z[cnt], i + cnt, False
@@ -752,12 +752,12 @@ class Run:
                 self.I_run = self.I_run + I_e
             else:
                 z_e = mode.at(z, tau)
-            self._watch(mode, np.vstack([z, z_e]), np.array([t_last, te]), t0)
+            self._watch(mode, np.vstack([z, z_e]), np.array([t_last, te]))
             return (te, z_e, e) if found is not None else (t_stop, z_e, None)
-        self._watch(mode, z[None], np.array([t_stop]), t0)
+        self._watch(mode, z[None], np.array([t_stop]))
         return t_stop, z, None
 
-    def _watch(self, mode: Mode, Z: np.ndarray, times: np.ndarray, t0: float) -> None:
+    def _watch(self, mode: Mode, Z: np.ndarray, times: np.ndarray) -> None:
         if self.watch is not None:
             self.watch.update(mode, Z, times, len(self.piece_ends))
 

@@ -570,8 +570,10 @@ class Catalog:
 def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
     """Load the built-in catalogs plus the user's files ``extra`` (same format).
 
-    Scenes (``catalogs/scenes/``), duty cycles (``catalogs/cycles/``) and gearboxes
-    (``catalogs/gearboxes/``, read by :mod:`beltcalc.gearboxes`) are not catalog files and are skipped.
+    Scenes (``catalogs/scenes/``), drive files (``catalogs/drives/``), duty cycles
+    (``catalogs/cycles/``), gearboxes (``catalogs/gearboxes/``, read by :mod:`beltcalc.gearboxes`)
+    and shaft materials (``catalogs/materials.toml``, read by :mod:`beltcalc.sim.drivefile`) are
+    not catalog files and are skipped.
 
     >>> cat = load_catalog()
     >>> cat.belt("AT10").width_row(0.025).F_Tadm
@@ -580,7 +582,8 @@ def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
     catalog = Catalog()
     root = builtin_dir()
     for path in sorted(root.rglob("*.toml")):
-        if not {"scenes", "cycles", "gearboxes"} & set(path.relative_to(root).parts):
+        parts = set(path.relative_to(root).parts)
+        if not {"scenes", "drives", "cycles", "gearboxes", "materials.toml"} & parts:
             catalog.add_file(path)
     for path in extra:
         catalog.add_file(Path(path))

@@ -137,10 +137,23 @@ def test_work_precision_reports_a_budget_stop():
     assert all(r.error is None and "stopped at t =" in r.note for r in stopped)
 
 
-def test_massless_node_is_refused_with_the_way_out():
+def test_massless_node_is_condensed_to_the_series_spring():
+    # springs 300 and 600 N m/rad in series through a node without inertia = 200 N m/rad (eq. 3 of
+    # Rusek & Popenda): the 2-mass frequency sqrt(200 (1/J1 + 1/J2)); the middle node's angle is
+    # the static balance, phi_m = (300 phi_1 + 600 phi_2) / 900
     nodes = [Inertia("1", 0.01), Inertia("m", 0.0), Inertia("2", 0.02)]
     cps = [Coupling("a", "1", "m", 300.0, 0.0), Coupling("b", "m", "2", 600.0, 0.0)]
-    with pytest.raises(InputError, match=r"node m has no inertia.*C1 C2 / \(C1 \+ C2\)"):
+    net = Network(nodes, cps)
+    (f, _), = net.modes()
+    assert f == pytest.approx(math.sqrt(200 * (1 / 0.01 + 1 / 0.02)) / (2 * math.pi), rel=1e-12)
+    assert net.node_row("m") == pytest.approx([1 / 3, 2 / 3], rel=1e-14)
+
+
+def test_massless_node_with_unproportional_damping_is_refused_with_the_way_out():
+    nodes = [Inertia("1", 0.01), Inertia("m", 0.0), Inertia("2", 0.02)]
+    cps = [Coupling("a", "1", "m", 300.0, 1.0), Coupling("b", "m", "2", 600.0, 0.0)]
+    with pytest.raises(InputError, match=r"node\(s\) m have no inertia and dampers not proportional.*give them an "
+                                         r"inertia"):
         Network(nodes, cps)
 
 

@@ -555,16 +555,7 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) 
     dx = network.derivative(t, x)
     for k, (name, unit) in enumerate(network.accel_names()):
         signals[name], units[name] = dx[n + k], unit
-    def unit(node):   # the generalised force on a node: a force on a translating one
-        return "N" if network.nodes[network.index[node]].translation else "N m"
-
-    for c, (name, torque) in zip(network.couplings, network.coupling_torques(x).items()):
-        signals[f"T_{name}"], units[f"T_{name}"] = torque, unit(c.i)
-    for name, force in network.strand_forces(t, x).items():
-        signals[f"F_{name}"], units[f"F_{name}"] = force, "N"
-    for node, torque in network.load_torques(t, x).items():
-        signals[f"load_{node}"], units[f"load_{node}"] = np.broadcast_to(torque, t.shape).copy(), unit(node)
-    for node, torque in network.drive_torques(t, x, dx).items():
-        signals[f"T_drive_{node}"], units[f"T_drive_{node}"] = np.broadcast_to(torque, t.shape).copy(), unit(node)
+    for name, (value, unit) in network.outputs(t, x, dx).items():
+        signals[name], units[name] = value, unit
     return SimResult(t=t, signals=signals, units=units, method=method, reason=reason, wall_time=wall,
                      steps=steps, rhs_calls=calls, states=x, extra=extra)

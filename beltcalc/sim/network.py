@@ -36,9 +36,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.errors import InputError, require_positive
+from beltcalc.sim.elements import (Coupling, Element, Gear, Inertia, InductionMotor, Load, Points, Prescribed,
+                                   SpeedLoop, Strand, check_points, piece, piecewise)
 
-Points = tuple[tuple[float, float], ...]
+__all__ = ["Coupling", "Event", "Gear", "Inertia", "InductionMotor", "Load", "Network", "Piece", "Prescribed",
+           "SpeedLoop", "Strand", "check_points", "piecewise", "series_stiffness"]
 
 
 def series_stiffness(c1: float, c2: float) -> float:
@@ -57,172 +60,6 @@ def series_stiffness(c1: float, c2: float) -> float:
     return c1 * c2 / (c1 + c2)
 
 
-# --- piecewise-linear functions of time --------------------------------------------------------
-def check_points(points: Points, what: str) -> None:
-    """Refuse a table whose times fall (a repeated time is a jump and is allowed)."""
-    times = [p[0] for p in points]
-    if any(b < a for a, b in zip(times, times[1:])):
-        raise InputError(f"the {what} table must have rising times (a time may repeat for a jump)",
-                         param="network")
-    if any(not (math.isfinite(a) and math.isfinite(b)) for a, b in points):
-        raise InputError(f"the {what} table has a value that is not finite", param="network")
-
-
-def piecewise(points: Points, t):
-    """Value of a piecewise-linear table at ``t``: linear between points, the later value at a
-    repeated time (a jump), held constant outside.
-
-    >>> float(piecewise(((0.0, 0.0), (1.0, 2.0), (1.0, 5.0)), 0.5)), float(piecewise(((0.0, 0.0), (1.0, 2.0), (1.0, 5.0)), 1.0))
-    (1.0, 5.0)
-    """
-    ts = np.array([p[0] for p in points])
-    vs = np.array([p[1] for p in points])
-    t = np.asarray(t, dtype=float)
-    k = np.searchsorted(ts, t, side="right") - 1
-    inside = (k >= 0) & (k < ts.size - 1)
-    kk = np.clip(k, 0, ts.size - 2) if ts.size > 1 else np.zeros_like(k)
-    if ts.size > 1:
-        span = ts[kk + 1] - ts[kk]
-        slope = np.where(span > 0, (vs[kk + 1] - vs[kk]) / np.where(span > 0, span, 1.0), 0.0)
-        mid = vs[kk] + slope * (t - ts[kk])
-    else:
-        mid = np.full_like(t, vs[0])
-    return np.where(inside, mid, np.where(k < 0, vs[0], vs[-1]))
-
-
-def _piece(points: Points, t_mid: float) -> tuple[float, float]:
-    """(a, c) with value = a + c t on the piece that holds ``t_mid`` (not a break point)."""
-    ts = [p[0] for p in points]
-    k = int(np.searchsorted(ts, t_mid, side="right")) - 1
-    if k < 0:
-        return points[0][1], 0.0
-    if k >= len(points) - 1:
-        return points[-1][1], 0.0
-    (t0, v0), (t1, v1) = points[k], points[k + 1]
-    c = (v1 - v0) / (t1 - t0)
-    return v0 - c * t0, c
-
-
-# --- elements ------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class Inertia:
-    """A rotating mass: inertia J [kg m^2]; with ``translation`` a sliding mass [kg]."""
-
-    name: str
-    J: float
-    translation: bool = False
-
-
-@dataclass(frozen=True)
-class Coupling:
-    """Spring-damper C [N m/rad], d [N m s/rad] from node ``i`` to ``U`` x node ``j``."""
-
-    name: str
-    i: str
-    j: str | None
-    C: float
-    d: float
-    U: float = 1.0
-
-
-@dataclass(frozen=True)
-class Strand:
-    """A tension-only strand (chain, belt span) from node ``i`` to node ``j`` (None: the frame).
-
-    stiffness c [N/m], damping b [N s/m], radii r_i, r_j [m] where it leaves the nodes
-    (1 for a translating node), pretension F_0 [N]. Elongation
-    ``delta = r_i phi_i - r_j phi_j + F_0 / c``; force ``c delta + b delta'`` while taut.
-    """
-
-    name: str
-    i: str
-    j: str | None
-    r_i: float
-    r_j: float
-    stiffness: float
-    damping: float
-    preload: float = 0.0
-
-
-@dataclass(frozen=True)
-class Load:
-    """Load torque on ``node`` against the motion [N m]:
-    ``mean + amplitude sin(omega t + phase) + table(t)``; with ``in_angle`` True the sine is
-    ``amplitude sin(phi_node + phase)`` (locked to the shaft angle: nonlinear). ``table``:
-    (t [s], torque [N m]) points, linear in between, a repeated time is a jump, held
-    constant outside. The sine acts from ``start`` [s] on. A negative load drives the node."""
-
-    node: str
-    mean: float = 0.0
-    amplitude: float = 0.0
-    omega: float = 0.0
-    phase: float = 0.0
-    in_angle: bool = False
-    table: Points = ()
-    start: float = 0.0
-
-    def torque(self, t, phi=0.0):
-        """The load torque at time ``t`` (and shaft angle ``phi``) [N m]."""
-        arg = phi if self.in_angle else self.omega * np.asarray(t)
-        out = self.mean + self.amplitude * np.sin(arg + self.phase) * (np.asarray(t) >= self.start)
-        if self.table:
-            out = out + piecewise(self.table, t)
-        return out
-
-
-@dataclass(frozen=True)
-class Prescribed:
-    """A node whose motion is imposed (an ideal speed-controlled drive): it starts at
-    ``speed`` [rad/s] and accelerates at ``accel``, a piecewise-linear table of
-    (t [s], accel [rad/s^2]) points (empty: constant speed). Its coupling torques are what
-    the drive must deliver (output ``T_drive_<node>``)."""
-
-    node: str
-    speed: float = 0.0
-    accel: Points = ()
-
-
-@dataclass(frozen=True)
-class SpeedLoop:
-    """A drive on ``node`` with feed-forward and a proportional speed loop:
-    ``T = feedforward(t) + gain (reference(t) - omega)``, both tables piecewise linear
-    (t [s], N m) and (t [s], rad/s); gain [N m s/rad]. Output ``T_drive_<node>``."""
-
-    node: str
-    gain: float
-    reference: Points
-    feedforward: Points = ()
-
-
-@dataclass(frozen=True)
-class InductionMotor:
-    r"""First-order dynamic characteristic of an induction motor on ``node``.
-
-    .. math:: \dot M = \frac{2 M_c \omega_c}{\omega_0} (\omega_0 - \dot\varphi) - \omega_c S_c M
-
-    breakdown_torque M_c [N m], breakdown_slip S_c [-], sync_speed omega_0 [rad/s],
-    supply omega_c = 2 pi f [rad/s]. Eq. (2) of Mamatova et al. 2016 (after Pinchuk 1957):
-    a lag of time constant 1/(omega_c S_c) on the linearised Kloss characteristic
-    M = 2 M_c s / S_c, s = (omega_0 - omega)/omega_0.
-
-    ``sync_table`` (t [s], rad/s): an inverter start. The synchronous speed follows the
-    table while the characteristic keeps its slope 2 M_c / (S_c omega_0) (V/f control holds
-    the slip speed at breakdown), so the motor stays on the linear part of its curve; a
-    direct-on-line start from rest is far outside it (the line gives 2 M_c / S_c at s = 1).
-    """
-
-    node: str
-    breakdown_torque: float
-    breakdown_slip: float
-    sync_speed: float
-    supply: float
-    sync_table: Points = ()
-
-    def static_torque(self, speed: float) -> float:
-        """The steady torque at ``speed`` [N m]: 2 M_c (omega_0 - omega) / (omega_0 S_c)."""
-        return 2 * self.breakdown_torque * (self.sync_speed - speed) / (self.sync_speed * self.breakdown_slip)
-
-
 @dataclass(frozen=True)
 class Event:
     """A switching surface of the current mode: ``row @ z`` (z = [x, g]) crossing zero in
@@ -234,99 +71,253 @@ class Event:
     row: np.ndarray
 
 
+class Piece:
+    """What elements write into ``[A | B]`` of ``x' = A x + B g`` on one time piece (the one
+    holding ``t_mid``): torques ``a + c t`` and sinusoids on a node (taken to its coordinate
+    through the node's factor), and rows of their own states."""
+
+    def __init__(self, net: "Network", A: np.ndarray, B: np.ndarray, t_mid: float):
+        self.net, self.A, self.B, self.t_mid = net, A, B, t_mid
+        self.Minv = 1.0 / net.mass
+        self.ramp = 1 if net.ramp else None
+        self._first = 1 + int(net.ramp)
+        self._freqs = net.frequencies()
+
+    def torque(self, node: str, a: float, c: float = 0.0) -> None:
+        """A torque (force on a translating node) ``a + c t`` [N m] acting on ``node``."""
+        k, f = self.net.coord(node)
+        n = self.net.n
+        self.B[n + k, 0] += f * a * self.Minv[k]
+        if c:
+            self.B[n + k, self.ramp] += f * c * self.Minv[k]
+
+    def sine(self, node: str, omega: float, s: float, c: float) -> None:
+        """A torque ``s sin(omega t) + c cos(omega t)`` [N m] on ``node``."""
+        k, f = self.net.coord(node)
+        q = self._first + 2 * next(i for i, w in enumerate(self._freqs) if math.isclose(w, omega))
+        self.B[self.net.n + k, q] += f * s * self.Minv[k]
+        self.B[self.net.n + k, q + 1] += f * c * self.Minv[k]
+
+    def state(self, element) -> int:
+        """Index of an element's own (first) state."""
+        return self.net.state_index[id(element)]
+
+
 @dataclass
 class Network:
-    """Nodes, couplings, strands, loads and drives, assembled into matrices."""
+    """Nodes and elements (couplings, rigid gears, strands, loads, drives), assembled into the
+    matrices of the first-order system. ``motor`` is one :class:`InductionMotor` or a list.
+
+    Generalised coordinates: every rigid gear group (nodes joined by :class:`Gear`) is one
+    coordinate, the angle of its first node; a node's angle is ``node_row(name) . q``.
+    A group without inertia (massless nodes between springs) is condensed out exactly:
+    its angle follows the springs' static balance, ``q_m = -K_mm^-1 K_mr q_r`` (Guyan's
+    reduction, exact without inertia), provided its dampers are proportional to its springs
+    (else a first-order element would be left). Loads, drives and strands must sit on nodes
+    with inertia.
+    """
 
     nodes: list[Inertia]
     couplings: list[Coupling]
     loads: list[Load] = field(default_factory=list)
-    motor: InductionMotor | None = None
+    motor: InductionMotor | list | None = None
     prescribed: list[Prescribed] = field(default_factory=list)
     strands: list[Strand] = field(default_factory=list)
     speed_loops: list[SpeedLoop] = field(default_factory=list)
+    gears: list[Gear] = field(default_factory=list)
 
     def __post_init__(self):
         names = [n.name for n in self.nodes]
         if len(set(names)) != len(names):
             raise InputError(f"node names repeat: {names}", param="network")
-        self.index = {name: k for k, name in enumerate(names)}
-        for n in self.nodes:
-            if n.J == 0:
-                raise InputError(
-                    f"node {n.name} has no inertia: a massless node makes the equations algebraic and "
-                    "cannot be simulated as it is; join its two springs into one, C = C1 C2 / (C1 + C2) "
-                    "(series stiffness; see series_stiffness), or give it the inertia of its parts",
-                    param=f"J_{n.name}")
-            require_positive(f"J_{n.name}", n.J, "kg*m^2")
-        for c in self.couplings:
-            self._check_ends(c.name, c.i, c.j)
-            require_range(c.name, c.C, "N*m/rad", low=0.0)
-            require_range(c.name, c.d, "N*m*s/rad", low=0.0)
-            require_positive(f"U_{c.name}", c.U, "")
-        for s in self.strands:
-            self._check_ends(s.name, s.i, s.j)
-            require_positive(f"{s.name} stiffness", s.stiffness, "N/m")
-            require_range(f"{s.name} damping", s.damping, "N*s/m", low=0.0)
-            require_range(f"{s.name} preload", s.preload, "N", low=0.0)
-            require_positive(f"{s.name} r_i", s.r_i, "m")
-            if s.j is not None:
-                require_positive(f"{s.name} r_j", s.r_j, "m")
-        for ld in self.loads:
-            if ld.node not in self.index:
-                raise InputError(f"a load names an unknown node {ld.node!r}", param="network")
-            check_points(ld.table, f"load on node {ld.node}")
-        self.fixed = {self.index[p.node]: p for p in self.prescribed}
-        if any(p.node not in self.index for p in self.prescribed) or len(self.fixed) != len(self.prescribed):
-            raise InputError("prescribed motion names an unknown node, or one node twice", param="network")
+        self._node = {n.name: n for n in self.nodes}
+        for nd in self.nodes:
+            if nd.J != 0:
+                require_positive(f"J_{nd.name}", nd.J, "kg*m^2")
+        self.motors = [] if self.motor is None else (list(self.motor) if isinstance(self.motor, (list, tuple))
+                                                     else [self.motor])
+        for m in self.motors:
+            if not isinstance(m, InductionMotor):
+                raise InputError(f"motor must be an InductionMotor (or a list of them), not {type(m).__name__}",
+                                 param="network")
+        motor_names = [m.name for m in self.motors]
+        if len(set(motor_names)) != len(motor_names):
+            raise InputError(f"several motors named {motor_names}: give each motor a name of its own",
+                             param="network")
+        self._coordinates()
+        self.elements: list[Element] = [*self.couplings, *self.speed_loops, *self.loads, *self.prescribed,
+                                        *self.motors]
+        self.fixed = {}
         for p in self.prescribed:
-            check_points(p.accel, f"acceleration of node {p.node}")
-        self.looped = {}
+            p.check(self)
+            c = self.coord(p.node)[0]
+            if c in self.fixed:
+                raise InputError(f"prescribed motion names node {p.node!r} (or one geared to it) twice",
+                                 param="network")
+            self.fixed[c] = p
+        looped = set()
         for s in self.speed_loops:
-            k = self.index.get(s.node)
-            if k is None or k in self.fixed or k in self.looped:
+            c = self.coord(s.node)[0] if s.node in self._node else None
+            if c is None or c in self.fixed or c in looped:
                 raise InputError(f"a speed loop must sit on a free node of its own, not {s.node!r}",
                                  param="network")
-            require_range(f"{s.node} speed-loop gain", s.gain, "N*m*s/rad", low=0.0)
-            check_points(s.reference, f"speed reference of node {s.node}")
-            check_points(s.feedforward, f"feed-forward of node {s.node}")
-            self.looped[k] = s
-        if self.motor is not None:
-            m = self.motor
-            if m.node not in self.index or self.index[m.node] in self.fixed:
-                raise InputError(f"the motor must sit on a free node, not {m.node!r}", param="network")
-            for name in ("breakdown_torque", "breakdown_slip", "sync_speed", "supply"):
-                require_positive(name, getattr(m, name), "")
-            check_points(m.sync_table, "synchronous speed")
-        n = self.n
-        self.M = np.diag([node.J for node in self.nodes]).astype(float)
-        self._K0, self._D0 = self._assemble_couplings()
-        # strand geometry: delta = G[s] . phi + F0/c
-        self._G = np.zeros((len(self.strands), n))
-        for k, s in enumerate(self.strands):
-            self._G[k, self.index[s.i]] += s.r_i
-            if s.j is not None:
-                self._G[k, self.index[s.j]] -= s.r_j
+            looped.add(c)
+        for el in self.elements + list(self.strands) + list(self.gears):
+            el.check(self)
+        self.state_index, extra = {}, []
+        for el in self.elements:
+            if el.states():
+                self.state_index[id(el)] = 2 * self.n + len(extra)
+                extra += el.states()
+        self._extra_states = extra
+        self._condense_check()
+        self._K0, self._D0 = self._assemble()
+        self._G = np.array([s.geometry(self) for s in self.strands]).reshape(len(self.strands), self.n)
         self._cache: dict = {}
         self._rows = None
         self._stamps = None
         self.taut = tuple(True for _ in self.strands)
         self.K, self.D = self.stiffness_damping(self.taut)
 
-    def _check_ends(self, name, i, j):
+    # --- coordinates: rigid gears merged, massless groups condensed -----------------------------
+    def _coordinates(self) -> None:
+        """Node -> row over the coordinates (``self.T``, nodes x n), and the coordinates' masses."""
+        index = {nd.name: k for k, nd in enumerate(self.nodes)}
+        parent = list(range(len(self.nodes)))
+        factor = [1.0] * len(self.nodes)          # phi_k = factor[k] * phi_parent[k]
+
+        def find(k):
+            f = 1.0
+            while parent[k] != k:
+                f *= factor[k]
+                k = parent[k]
+            return k, f
+
+        for g in self.gears:
+            for end in (g.a, g.b):
+                if end not in index:
+                    raise InputError(f"gear {g.name or g.a + '-' + g.b} names an unknown node {end!r}",
+                                     param="network")
+            require_positive(f"{g.name or 'gear'} ratio", g.ratio, "")
+            (ra, fa), (rb, fb) = find(index[g.a]), find(index[g.b])
+            # phi_a = fa R_a, phi_b = fb R_b, and phi_b = phi_a / ratio
+            if ra == rb:
+                if not math.isclose(fb, fa / g.ratio, rel_tol=1e-9):
+                    raise InputError(f"rigid gears form a loop with inconsistent ratios at {g.name or g.b!r}: "
+                                     f"{g.b} would turn at {fb:.6g} and at {fa / g.ratio:.6g} times "
+                                     f"{self.nodes[ra].name}", param="network")
+            elif ra < rb:      # the earlier-listed node stays the root
+                parent[rb], factor[rb] = ra, fa / (g.ratio * fb)
+            else:
+                parent[ra], factor[ra] = rb, g.ratio * fb / fa
+        roots, f_of = [], []
+        for k in range(len(self.nodes)):
+            r, f = find(k)
+            roots.append(r)
+            f_of.append(f)
+        groups = sorted(set(roots))
+        gmass = {r: 0.0 for r in groups}
+        for k, nd in enumerate(self.nodes):
+            gmass[roots[k]] += f_of[k] ** 2 * nd.J
+        heavy = [r for r in groups if gmass[r] > 0]
+        light = [r for r in groups if gmass[r] == 0]
+        self.coords = [self.nodes[r].name for r in heavy]
+        self.index = {name: c for c, name in enumerate(self.coords)}
+        self.mass = np.array([gmass[r] for r in heavy], dtype=float)
+        n, L = len(heavy), len(light)
+        F = np.zeros((len(self.nodes), n + L))    # node -> group coordinates (heavy first)
+        col = {r: c for c, r in enumerate(heavy + light)}
+        for k in range(len(self.nodes)):
+            F[k, col[roots[k]]] = f_of[k]
+        self._group_rows, self._light = F, L
+        self._massless = {self.nodes[k].name for k in range(len(self.nodes)) if roots[k] in light}
+        if L == 0:
+            self.T = F
+            return
+        # static condensation of the massless groups through the couplings' springs
+        K = np.zeros((n + L, n + L))
+        D = np.zeros_like(K)
+        for c in self.couplings:
+            for end in (c.i, c.j):
+                if end is not None and end not in index:
+                    raise InputError(f"element {c.name} names an unknown node {end!r}", param="network")
+            g = F[index[c.i]] - (c.U * F[index[c.j]] if c.j is not None else 0.0)
+            K += c.C * np.outer(g, g)
+            D += c.d * np.outer(g, g)
+        Kmm, Kmr = K[n:, n:], K[n:, :n]
+        try:
+            cond = np.linalg.cond(Kmm)
+        except np.linalg.LinAlgError:
+            cond = math.inf
+        if not cond < 1e12:
+            lonely = [self.nodes[r].name for r in light]
+            raise InputError(f"node(s) {', '.join(lonely)} have no inertia and no spring path to one: give "
+                             "each node an inertia, or connect it by a coupling to a node that has one",
+                             param="network")
+        R = np.vstack([np.eye(n), -np.linalg.solve(Kmm, Kmr)])     # group coordinates -> heavy ones
+        self._condensed_D = (D, R)
+        self.T = F @ R
+
+    def _condense_check(self) -> None:
+        """The condensation is exact only if no damper pulls on a massless group as it follows
+        the springs' balance: D_m R = 0 (dampers proportional to the springs, or none)."""
+        if not self._light:
+            return
+        D, R = self._condensed_D
+        n = self.n
+        scale = float(np.abs(D).max()) * float(np.abs(R).max()) if D.size else 0.0
+        if scale and float(np.abs(D[n:] @ R).max()) > 1e-9 * scale:
+            names = sorted(self._massless)
+            raise InputError(f"node(s) {', '.join(names)} have no inertia and dampers not proportional to their "
+                             "springs: condensing them would not be exact; give them an inertia, or make each "
+                             "damping d = beta C with one beta", param="network")
+        for el in self.elements:
+            node = getattr(el, "node", None)
+            if node in self._massless:
+                raise InputError(f"{type(el).__name__} on {node!r}: a node without inertia cannot carry a load "
+                                 "or a drive; give it the inertia of its parts", param="network")
+
+    def check_ends(self, name: str, i: str | None, j: str | None) -> None:
+        """Refuse an element that names a node that does not exist."""
         for end in (i, j):
-            if end is not None and end not in self.index:
+            if end is not None and end not in self._node:
                 raise InputError(f"element {name} names an unknown node {end!r}", param="network")
+
+    def require_inertia(self, node: str, what: str) -> None:
+        """Refuse a load or drive on a node without inertia (it is condensed out)."""
+        if node in self._massless:
+            raise InputError(f"{what} on {node!r}: a node without inertia cannot carry a load or a drive; "
+                             "give it the inertia of its parts", param="network")
+
+    def node(self, name: str) -> Inertia:
+        """The node called ``name``."""
+        return self._node[name]
+
+    def node_row(self, name: str) -> np.ndarray:
+        """The row over the coordinates that gives node ``name``'s angle (position)."""
+        return self.T[self.nodes.index(self._node[name])]
+
+    def coord(self, name: str) -> tuple[int, float]:
+        """(coordinate, factor) of a node with inertia: phi_node = factor * q[coordinate]."""
+        row = self.node_row(name)
+        c = int(np.flatnonzero(row)[0])
+        return c, float(row[c])
 
     # --- structure ------------------------------------------------------------------------
     @property
     def n(self) -> int:
-        return len(self.nodes)
+        """Number of generalised coordinates (nodes with inertia, gear groups merged)."""
+        return len(self.coords)
+
+    @property
+    def M(self) -> np.ndarray:
+        """The (diagonal) mass matrix of the coordinates [kg m^2 or kg]."""
+        return np.diag(self.mass)
 
     @property
     def size(self) -> int:
         """Number of states."""
-        return 2 * self.n + (1 if self.motor else 0)
+        return 2 * self.n + len(self._extra_states)
 
     @property
     def linear(self) -> bool:
@@ -338,8 +329,7 @@ class Network:
     @property
     def ramp(self) -> bool:
         """True when a piecewise-linear input needs the generator ``t``."""
-        return (any(ld.table or (ld.start and ld.amplitude) for ld in self.loads) or any(p.accel for p in self.prescribed)
-                or bool(self.speed_loops) or bool(self.motor and self.motor.sync_table))
+        return any(el.tables() or el.breaks() for el in self.elements)
 
     @property
     def smooth(self) -> bool:
@@ -351,42 +341,39 @@ class Network:
         times = set()
         for table in self._tables():
             times.update(p[0] for p in table)
-        times.update(ld.start for ld in self.loads if ld.amplitude)
+        for el in self.elements:
+            times.update(el.breaks())
         return sorted(t for t in times if 0.0 < t < t_end)
 
     def initial_state(self) -> np.ndarray:
         """Rest, except the prescribed nodes at their initial speed."""
         x = np.zeros(self.size)
         for k, p in self.fixed.items():
-            x[self.n + k] = p.speed
+            x[self.n + k] = p.speed / self.coord(p.node)[1]
         return x
 
     def state_names(self) -> list[tuple[str, str]]:
-        """(name, SI unit) of every state."""
-        out = [(f"x_{n.name}", "m") if n.translation else (f"phi_{n.name}", "rad") for n in self.nodes]
-        out += [(f"v_{n.name}", "m/s") if n.translation else (f"omega_{n.name}", "rad/s") for n in self.nodes]
-        if self.motor:
-            out.append(("M_motor", "N m"))
-        return out
+        """(name, SI unit) of every state: each coordinate's angle and speed (named after its
+        first node), then the elements' own states."""
+        heads = [self._node[c] for c in self.coords]
+        out = [(f"x_{n.name}", "m") if n.translation else (f"phi_{n.name}", "rad") for n in heads]
+        out += [(f"v_{n.name}", "m/s") if n.translation else (f"omega_{n.name}", "rad/s") for n in heads]
+        return out + list(self._extra_states)
 
     def accel_names(self) -> list[tuple[str, str]]:
-        """(name, SI unit) of every node's acceleration."""
-        return [(f"accel_{n.name}", "m/s^2" if n.translation else "rad/s^2") for n in self.nodes]
+        """(name, SI unit) of every coordinate's acceleration."""
+        return [(f"accel_{c}", "m/s^2" if self._node[c].translation else "rad/s^2") for c in self.coords]
 
-    def _assemble_couplings(self):
+    def _assemble(self):
         n = self.n
         K = np.zeros((n, n))
         D = np.zeros((n, n))
-        for c in self.couplings:
-            # generalised-coordinate vector of the coupling's deflection: e_i - U e_j
-            g = np.zeros(n)
-            g[self.index[c.i]] = 1.0
-            if c.j is not None:
-                g[self.index[c.j]] -= c.U
-            K += c.C * np.outer(g, g)
-            D += c.d * np.outer(g, g)
-        for k, s in self.looped.items():
-            D[k, k] += s.gain
+        for el in self.elements:
+            for g, C, d in el.matrices(self):
+                if C:
+                    K += C * np.outer(g, g)
+                if d:
+                    D += d * np.outer(g, g)
         return K, D
 
     def stiffness_damping(self, taut: tuple[bool, ...]) -> tuple[np.ndarray, np.ndarray]:
@@ -400,11 +387,12 @@ class Network:
 
     # --- first-order form -------------------------------------------------------------------
     def frequencies(self) -> list[float]:
-        """The distinct angular frequencies of the time-sinusoidal loads [rad/s]."""
+        """The distinct angular frequencies of the time-sinusoidal inputs [rad/s]."""
         out = []
-        for ld in self.loads:
-            if not ld.in_angle and ld.amplitude and ld.omega and not any(math.isclose(ld.omega, w) for w in out):
-                out.append(ld.omega)
+        for el in self.elements:
+            for w in el.frequencies():
+                if not any(math.isclose(w, v) for v in out):
+                    out.append(w)
         return out
 
     def generators(self, t: np.ndarray | float) -> np.ndarray:
@@ -462,78 +450,40 @@ class Network:
 
     def _tables(self) -> list[Points]:
         """Every piecewise-linear input table."""
-        tables = [ld.table for ld in self.loads] + [p.accel for p in self.prescribed]
-        tables += [s.reference for s in self.speed_loops] + [s.feedforward for s in self.speed_loops]
-        return tables + [self.motor.sync_table] if self.motor else tables
+        return [t for el in self.elements for t in el.tables()]
 
     def _pieces(self, t_mid):
-        """The active piece of every table (a cache key)."""
+        """The active piece of every table, and which inputs have switched on (a cache key)."""
         for table in self._tables():
-            yield _piece(table, t_mid) if table else (0.0, 0.0)
-        yield tuple(t_mid >= ld.start for ld in self.loads)
+            yield piece(table, t_mid)
+        yield tuple(t_mid >= b for el in self.elements for b in el.breaks())
 
     def _build(self, taut, t_mid, constrained):
         n, m = self.n, self.size
         K, D = self.stiffness_damping(taut)
-        Minv = 1.0 / np.diag(self.M)
+        Minv = 1.0 / self.mass
         A = np.zeros((m, m))
         A[:n, n:2 * n] = np.eye(n)
         A[n:2 * n, :n] = -Minv[:, None] * K
         A[n:2 * n, n:2 * n] = -Minv[:, None] * D
         B = np.zeros((m, 1 + int(self.ramp) + 2 * len(self.frequencies())))
-        ramp = 1 if self.ramp else None
-        freqs = self.frequencies()
-        first = 1 + int(self.ramp)
-
-        def torque(k, a, c=0.0):          # a + c t [N m] acting on node k
-            B[n + k, 0] += a * Minv[k]
-            if c:
-                B[n + k, ramp] += c * Minv[k]
-
-        if self.motor:
-            mo = self.motor
-            k = self.index[mo.node]
-            A[n + k, 2 * n] = Minv[k]                      # motor torque drives its node
-            A[2 * n, n + k] = -2 * mo.breakdown_torque * mo.supply / mo.sync_speed
-            A[2 * n, 2 * n] = -mo.supply * mo.breakdown_slip
-            gain = 2 * mo.breakdown_torque * mo.supply / mo.sync_speed
-            if mo.sync_table:                              # 2 M_c w_c / w_0 * w_0(t)
-                a, c = _piece(mo.sync_table, t_mid)
-                B[2 * n, 0] = gain * a
-                B[2 * n, ramp] = gain * c
-            else:
-                B[2 * n, 0] = gain * mo.sync_speed
+        p = Piece(self, A, B, t_mid)
         for s, on, g in zip(self.strands, taut, self._G):
             if on and s.preload:                           # the pretension: -G^T F0
                 for k in np.nonzero(g)[0]:
-                    torque(k, -g[k] * s.preload)
-        for ld in self.loads:
-            k = self.index[ld.node]
-            torque(k, -ld.mean)
-            if ld.table:
-                a, c = _piece(ld.table, t_mid)
-                torque(k, -a, -c)
-            if ld.in_angle or not ld.amplitude or t_mid < ld.start:
-                continue
-            if ld.omega:
-                q = first + 2 * next(i for i, w in enumerate(freqs) if math.isclose(w, ld.omega))
-                B[n + k, q] -= ld.amplitude * math.cos(ld.phase) * Minv[k]
-                B[n + k, q + 1] -= ld.amplitude * math.sin(ld.phase) * Minv[k]
-            else:  # omega = 0: a constant amplitude * sin(phase)
-                torque(k, -ld.amplitude * math.sin(ld.phase))
-        for k, s in self.looped.items():                    # feed-forward + gain * reference
-            a, c = _piece(s.feedforward, t_mid) if s.feedforward else (0.0, 0.0)
-            ra, rc = _piece(s.reference, t_mid)
-            torque(k, a + s.gain * ra, c + s.gain * rc)
+                    B[n + k, 0] += -g[k] * s.preload * Minv[k]
+        for el in self.elements:
+            el.inputs(p)
         if constrained:
-            for k, p in self.fixed.items():  # imposed motion: omega' = accel(t), an input
+            for k, pr in self.fixed.items():  # imposed motion: omega' = accel(t) / factor, an input
+                f = self.coord(pr.node)[1]
                 A[n + k, :] = 0.0
                 B[n + k, :] = 0.0
-                if p.accel:
-                    a, c = _piece(p.accel, t_mid)
-                    B[n + k, 0] = a
+                if pr.accel:
+                    a, c = piece(pr.accel, t_mid)
+                    B[n + k, 0] = a / f
                     if c:
-                        B[n + k, ramp] = c
+                        B[n + k, p.ramp] = c / f
         return A, B
 
     def strand_stamps(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -545,7 +495,7 @@ class Network:
         pattern is the all-slack one plus the stamps of its taut strands: O(strands) work
         per pattern instead of a dense rebuild."""
         n, m = self.n, self.size
-        Minv = 1.0 / np.diag(self.M)
+        Minv = 1.0 / self.mass
         owner, rows, cols, vals = [], [], [], []
         for k, (s, g) in enumerate(zip(self.strands, self._G)):
             nz = np.nonzero(g)[0]
@@ -688,54 +638,53 @@ class Network:
     def nonlinear_terms(self, t, x: np.ndarray, constrained: bool = True) -> np.ndarray:
         """x' contribution of what the linear form cannot take: loads locked to a shaft angle."""
         out = np.zeros_like(x, dtype=float)
-        for ld in self.loads:
-            k = self.index[ld.node]
-            if ld.in_angle and not (constrained and k in self.fixed):
-                out[self.n + k] -= ld.amplitude * np.sin(x[k] + ld.phase) * (np.asarray(t) >= ld.start) / self.nodes[k].J
+        for el in self.loads:
+            el.nonlinear(self, t, x, out, constrained)
         return out
 
     def nonlinear_jacobian(self, x: np.ndarray) -> np.ndarray:
         """d(nonlinear_terms)/dx: only the angle-locked loads depend on the state."""
         jac = np.zeros((self.size, self.size))
-        for ld in self.loads:
-            if ld.in_angle and self.index[ld.node] not in self.fixed:
-                k = self.index[ld.node]
-                jac[self.n + k, k] -= ld.amplitude * np.cos(x[k] + ld.phase) / self.nodes[k].J
+        for el in self.loads:
+            el.jacobian(self, x, jac)
         return jac
 
     # --- outputs ----------------------------------------------------------------------------
     def coupling_torques(self, x: np.ndarray) -> dict[str, np.ndarray]:
         """Torque transmitted by each coupling [N m]: C (phi_i - U phi_j) + d (omega_i - U omega_j)."""
+        return {c.name: c.outputs(self, None, x, None)[f"T_{c.name}"][0] for c in self.couplings}
+
+    def node_signals(self, x: np.ndarray, dx: np.ndarray) -> dict[str, tuple[np.ndarray, str]]:
+        """Angle, speed and acceleration of every node that is not a coordinate itself (geared
+        to one, or condensed): ``node_row . q`` and its derivatives."""
         n, out = self.n, {}
-        for c in self.couplings:
-            i = self.index[c.i]
-            defl, rate = x[i], x[n + i]
-            if c.j is not None:
-                j = self.index[c.j]
-                defl, rate = defl - c.U * x[j], rate - c.U * x[n + j]
-            out[c.name] = c.C * defl + c.d * rate
+        for k, nd in enumerate(self.nodes):
+            if nd.name in self.index:
+                continue
+            row = self.T[k]
+            lin = "m" if nd.translation else "rad"
+            out[f"{'x' if nd.translation else 'phi'}_{nd.name}"] = (row @ x[:n], lin)
+            out[f"{'v' if nd.translation else 'omega'}_{nd.name}"] = (row @ x[n:2 * n], f"{lin}/s")
+            out[f"accel_{nd.name}"] = (row @ dx[n:2 * n], f"{lin}/s^2")
         return out
 
-    def load_torques(self, t: np.ndarray, x: np.ndarray) -> dict[str, np.ndarray]:
-        """Load torque on each loaded node [N m] (summed per node)."""
-        out: dict[str, np.ndarray] = {}
-        for ld in self.loads:
-            out[ld.node] = out.get(ld.node, 0.0) + ld.torque(t, x[self.index[ld.node]])
-        return out
-
-    def drive_torques(self, t: np.ndarray, x: np.ndarray, dx: np.ndarray) -> dict[str, np.ndarray]:
-        """Torque each prescribed drive or speed loop delivers [N m].
-
-        A prescribed node: J (its imposed acceleration - the acceleration the other forces
-        alone would give it). A speed loop: feed-forward + gain (reference - omega)."""
-        n, out = self.n, {}
-        if self.fixed:
-            free = self.derivative(t, x, constrained=False)
-            for k, p in self.fixed.items():
-                out[p.node] = self.nodes[k].J * (dx[n + k] - free[n + k])
-        for k, s in self.looped.items():
-            ff = piecewise(s.feedforward, t) if s.feedforward else 0.0
-            out[s.node] = ff + s.gain * (piecewise(s.reference, t) - x[n + k])
+    def outputs(self, t: np.ndarray, x: np.ndarray, dx: np.ndarray) -> dict[str, tuple[np.ndarray, str]]:
+        """Every element's outputs {signal: (array over t, SI unit)}: coupling torques, strand
+        forces, loads, drive torques, and the angles of the nodes that are not coordinates.
+        Loads on one node are summed."""
+        out = {}
+        for el in self.couplings:
+            out.update(el.outputs(self, t, x, dx))
+        for name, force in self.strand_forces(t, x).items():
+            out[f"F_{name}"] = (force, "N")
+        for el in self.elements:
+            if isinstance(el, Coupling):
+                continue
+            for name, (value, unit) in el.outputs(self, t, x, dx).items():
+                if name in out and name.startswith("load_"):
+                    value = out[name][0] + value
+                out[name] = (np.array(value, dtype=float, copy=True), unit)
+        out.update(self.node_signals(x, dx))
         return out
 
     def energy(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

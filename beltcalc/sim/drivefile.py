@@ -1,0 +1,779 @@
+"""Drive files: a designer's own drive train as TOML, read into a :class:`Drive` (a
+:class:`~beltcalc.sim.network.Network` plus its timing and notes).
+
+A drive file lists nodes (inertias, translating masses) and the elements between them:
+couplings, rigid gears, shafts from geometry, belt spans from a belt catalog entry, chain
+strands from ``catalogs/chains.toml``, motors (induction, prescribed motion, speed loop,
+torque table) and loads. Every value is a quantity string with its unit (plain numbers for
+ratios, counts and factors), converted to SI once, here. The format is in
+``docs/drive_files.md``; an example is ``catalogs/drives/conveyor.toml``.
+
+Every value of every element is addressable as ``ELEMENT.KEY`` (``jaw.stiffness``,
+``upper.pretension``; the timing as ``t_end``, ``samples``, ``window``): :meth:`DriveFile.params`
+lists them and :meth:`DriveFile.build` takes new values for any of them, so ``--set`` and
+``--sweep`` reach every number in the file.
+
+A malformed file is one :class:`DriveFileError` naming the file, the element and the key
+(exit 1); nothing is half-built.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from beltcalc.errors import BeltcalcError, CatalogError, InputError
+
+SECTIONS = ("drive", "node", "coupling", "shaft", "gear", "belt_span", "chain_strand", "motor", "load")
+
+
+class DriveFileError(CatalogError):
+    """A drive file that cannot be read or built: the message names the file, the element
+    and the key (exit 1)."""
+
+
+@dataclass(frozen=True)
+class Key:
+    """A key a section accepts. ``unit``: SI unit (``""`` a plain number, ``"a|b"`` either
+    dimension), ``"int"``, ``"bool"``, ``"text"``, ``"names"`` (node names), or ``"table:X,Y"``
+    (a list of [X, Y] quantity pairs)."""
+
+    unit: str
+    help: str
+    required: bool = False
+
+    @property
+    def scalar(self) -> bool:
+        """Whether ``--set ELEMENT.KEY=...`` can give it."""
+        return self.unit not in ("names", "bool") and not self.unit.startswith("table:")
+
+
+TORQUE = "N*m|N"
+KEYS: dict[str, dict[str, Key]] = {
+    "drive": {
+        "title": Key("text", "title of the report"),
+        "t_end": Key("s", "simulated time", True),
+        "samples": Key("int", "output samples (>= 2)"),
+        "window": Key("s", "start of the steady window for means and amplitudes"),
+    },
+    "node": {
+        "name": Key("text", "unique name", True),
+        "inertia": Key("kg*m^2", "rotating inertia (0: massless, condensed out)"),
+        "mass": Key("kg", "a translating mass instead of an inertia"),
+        "teeth": Key("int", "teeth of the pulley or sprocket (pitch diameter from the belt or chain)"),
+        "belt": Key("text", "belt profile of the pulley (catalog name), for its pitch diameter"),
+        "chain": Key("text", "chain of the sprocket (catalog name), for its pitch diameter"),
+        "pitch_diameter": Key("m", "pitch diameter where strands leave the node"),
+    },
+    "coupling": {
+        "name": Key("text", "unique name"),
+        "between": Key("names", "[node, node] (one node: to the frame)", True),
+        "stiffness": Key("N*m/rad|N/m", "spring C", True),
+        "damping": Key("N*m*s/rad|N*s/m", "damper d"),
+        "ratio": Key("", "U: the torque is C (phi_a - U phi_b) + d (omega_a - U omega_b)"),
+        "rigid": Key("bool", "join the two nodes rigidly (phi_b = phi_a / U); the error of doing so is printed"),
+    },
+    "shaft": {
+        "name": Key("text", "unique name"),
+        "between": Key("names", "[node, node]", True),
+        "diameter": Key("m", "outer diameter", True),
+        "bore": Key("m", "bore diameter (0: solid)"),
+        "length": Key("m", "length between the nodes", True),
+        "material": Key("text", "material of catalogs/materials.toml (G and density)"),
+        "shear_modulus": Key("Pa", "G, instead of a material's"),
+        "density": Key("kg/m^3", "density, for the shaft's own inertia (half to each node)"),
+        "damping": Key("N*m*s/rad", "damper d"),
+        "damping_time": Key("s", "stiffness-proportional damping d = beta C"),
+    },
+    "gear": {
+        "name": Key("text", "unique name"),
+        "between": Key("names", "[node a, node b]", True),
+        "ratio": Key("", "speed of a / speed of b (phi_b = phi_a / ratio)", True),
+    },
+    "belt_span": {
+        "name": Key("text", "unique name"),
+        "from": Key("text", "node it leaves (its pitch circle, or a translating node)", True),
+        "to": Key("text", "node it reaches", True),
+        "belt": Key("text", "belt profile (catalog name)", True),
+        "width": Key("m", "belt width (a catalog width)", True),
+        "length": Key("m", "free span length", True),
+        "pretension": Key("N", "pretension F_0"),
+        "damping": Key("N*s/m", "b; otherwise fitted to the catalog's F_tspec(n) as `beltcalc tension` does"),
+        "tension_only": Key("bool", "true (default): the span goes slack; false: a two-way spring"),
+    },
+    "chain_strand": {
+        "name": Key("text", "unique name"),
+        "from": Key("text", "node (sprocket) it leaves", True),
+        "to": Key("text", "node (sprocket) it reaches", True),
+        "chain": Key("text", "chain (catalogs/chains.toml name, e.g. 10B-1)", True),
+        "length": Key("m", "free strand length", True),
+        "pretension": Key("N", "pretension F_0"),
+        "stiffness": Key("N", "EA: the force per unit strain (chains publish none: the file must say)", True),
+        "damping": Key("N*s/m", "b"),
+        "damping_time": Key("s", "stiffness-proportional damping b = beta c"),
+    },
+    "motor": {
+        "name": Key("text", "unique name"),
+        "kind": Key("text", "induction, prescribed, speed_loop or torque", True),
+        "node": Key("text", "node it drives", True),
+        "rated_torque": Key("N*m", "induction: rated torque (or rated_power and rated_speed)"),
+        "rated_power": Key("W", "induction: rated power"),
+        "rated_speed": Key("rad/s", "induction: rated speed"),
+        "breakdown_factor": Key("", "induction: breakdown torque / rated torque"),
+        "breakdown_slip": Key("", "induction: breakdown slip"),
+        "supply": Key("Hz", "induction: supply frequency"),
+        "pole_pairs": Key("int", "induction: pole pairs"),
+        "ramp": Key("s", "induction: inverter ramp from 0 to the supply frequency (0: none)"),
+        "speed": Key("rad/s|m/s", "prescribed: initial speed"),
+        "accel": Key("table:s,rad/s^2|m/s^2", "prescribed: acceleration table [[t, a], ...]"),
+        "distance": Key("rad|m", "prescribed: a move of this distance (motor-size profile)"),
+        "max_speed": Key("rad/s|m/s", "prescribed: the move's speed limit"),
+        "max_accel": Key("rad/s^2|m/s^2", "prescribed: the move's acceleration limit"),
+        "jerk": Key("rad/s^3|m/s^3", "prescribed: jerk limit (S-curve); none: trapezoid"),
+        "start": Key("s", "prescribed: the move starts here"),
+        "gain": Key("N*m*s/rad|N*s/m", "speed_loop: proportional gain"),
+        "reference": Key("table:s,rad/s|m/s", "speed_loop: speed reference [[t, speed], ...]"),
+        "feedforward": Key("table:s,N*m|N", "speed_loop: feed-forward torque [[t, torque], ...]"),
+        "torque": Key("table:s,N*m|N", "torque: drive torque [[t, torque], ...]"),
+    },
+    "load": {
+        "name": Key("text", "unique name"),
+        "node": Key("text", "node it acts on", True),
+        "torque": Key(TORQUE, "constant part, against the motion"),
+        "amplitude": Key(TORQUE, "amplitude of the sine"),
+        "frequency": Key("rad/s|Hz", "frequency of the sine in time"),
+        "order": Key("", "instead of frequency: the sine locked to the node's angle, sin(order phi)"),
+        "phase": Key("rad", "phase of the sine"),
+        "start": Key("s", "the load acts from here on"),
+        "table": Key("table:s,N*m|N", "tabulated part [[t, torque], ...]"),
+    },
+}
+KINDS = ("induction", "prescribed", "speed_loop", "torque")
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One element of the file: its section, name, index in the section and raw values."""
+
+    section: str
+    name: str
+    index: int
+    raw: dict
+
+    @property
+    def where(self) -> str:
+        return f"{self.section} {self.name!r}"
+
+
+@dataclass(frozen=True)
+class DriveParam:
+    """A value of the file that ``--set``/``--sweep`` can address: ``ELEMENT.KEY`` (or a
+    timing name), its SI unit (as :class:`Key`), the file's text (None: not given) and help."""
+
+    name: str
+    unit: str
+    text: str | None
+    help: str
+
+
+@dataclass
+class Drive:
+    """A built drive: the network, its timing, and what the report follows."""
+
+    title: str
+    path: str
+    network: object
+    t_end: float
+    samples: int
+    window: float
+    notes: list[str] = field(default_factory=list)
+    nodes: list[str] = field(default_factory=list)
+    torques: list[tuple[str, str]] = field(default_factory=list)     # (signal, label) of couplings/shafts
+    spans: dict[str, float] = field(default_factory=dict)            # two-way span -> lever r [m]
+    breaking: dict[str, float] = field(default_factory=dict)         # strand -> breaking load [N]
+    motors: list[tuple[str, str]] = field(default_factory=list)      # (torque signal, node)
+    inputs: dict = field(default_factory=dict)                       # address -> (SI value, origin)
+
+
+def _read_toml(path: Path) -> dict:
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise DriveFileError(f"{path}: no such drive file") from None
+    except OSError as exc:
+        raise DriveFileError(f"{path}: cannot be read ({exc.strerror})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise DriveFileError(f"{path}: not valid TOML: {exc}") from None
+
+
+class DriveFile:
+    """A drive file read and checked for structure (sections, keys, names), not yet built.
+
+    >>> from beltcalc.catalogs import builtin_dir
+    >>> f = DriveFile(builtin_dir() / "drives" / "friswell_5_disks.toml")
+    >>> [p.name for p in f.params()][:4]
+    ['t_end', 'samples', 'window', 'disk1.inertia']
+    """
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        data = _read_toml(self.path)
+        for key in data:
+            if key not in SECTIONS:
+                self.fail(key, "", f"unknown section [{key}] / [[{key}]]; a drive file has "
+                                   + ", ".join(SECTIONS))
+        head = data.get("drive", {})
+        if not isinstance(head, dict):
+            self.fail("drive", "", "[drive] must be a table")
+        self._check_keys(Entry("drive", "drive", 0, head))
+        self.head = Entry("drive", "drive", 0, head)
+        self.entries: list[Entry] = []
+        names: dict[str, str] = {}
+        for section in SECTIONS[1:]:
+            items = data.get(section, [])
+            if not isinstance(items, list) or not all(isinstance(i, dict) for i in items):
+                self.fail(section, "", f"write each {section} as [[{section}]]")
+            for k, raw in enumerate(items, 1):
+                name = raw.get("name", f"{section}{k}")
+                if not isinstance(name, str) or not name.strip() or "." in name or "=" in name:
+                    self.fail(f"{section} {k}", "name", "must be a text without '.' or '='")
+                entry = Entry(section, name, k, raw)
+                self._check_keys(entry)
+                if name in names:
+                    self.fail(entry.where, "name", f"repeats the name of a {names[name]}; names are unique")
+                names[name] = section
+                self.entries.append(entry)
+        if not any(e.section == "node" for e in self.entries):
+            self.fail("node", "", "a drive needs at least one [[node]]")
+        self.names = names
+
+    def fail(self, where: str, key: str, message: str):
+        """Raise the one-line error of this file."""
+        at = f"{where}: {key}" if key else where
+        raise DriveFileError(f"{self.path}: {at}: {message}")
+
+    def _check_keys(self, entry: Entry) -> None:
+        keys = KEYS[entry.section]
+        for key in entry.raw:
+            if key not in keys:
+                self.fail(entry.where, key, f"unknown key; a {entry.section} has {', '.join(keys)}")
+        for key, spec in keys.items():
+            if spec.required and key not in entry.raw and not (key == "name" and entry.section != "node"):
+                self.fail(entry.where, key, f"missing ({spec.help})")
+
+    # --- parameters -------------------------------------------------------------------------
+    def params(self) -> list[DriveParam]:
+        """Every addressable value: the timing, then ``ELEMENT.KEY`` of every element, with
+        the file's text where the file gives it."""
+        out = [DriveParam(k, KEYS["drive"][k].unit, _text(self.head.raw.get(k)), KEYS["drive"][k].help)
+               for k in ("t_end", "samples", "window")]
+        for e in self.entries:
+            for key, spec in KEYS[e.section].items():
+                if spec.scalar and key not in ("name", "node", "from", "to", "kind"):
+                    out.append(DriveParam(f"{e.name}.{key}", spec.unit, _text(e.raw.get(key)), spec.help))
+        return out
+
+    # --- building -----------------------------------------------------------------------------
+    def build(self, values: dict | None = None, catalog=None) -> Drive:
+        """The drive with ``values`` ({address: SI float, (float, unit), int or text}) instead
+        of the file's. Every value is converted and checked; the first problem is one
+        :class:`DriveFileError` naming the element and key."""
+        from beltcalc.sim.network import Network
+
+        values = dict(values or {})
+        known = {p.name for p in self.params()}
+        for name in values:
+            if name not in known:
+                raise InputError(f"{name!r} is not a value of this drive file ({self.path.name})", param=name)
+        b = _Builder(self, values, catalog)
+        try:
+            parts = b.elements()
+        except BeltcalcError as exc:
+            if isinstance(exc, DriveFileError):
+                raise
+            raise DriveFileError(f"{self.path}: {b.current}: {exc.message}") from None
+        try:
+            net = Network(parts["nodes"], parts["couplings"], parts["loads"], parts["motors"] or None,
+                          prescribed=parts["prescribed"], strands=parts["strands"],
+                          speed_loops=parts["speed_loops"], gears=parts["gears"])
+        except BeltcalcError as exc:
+            raise DriveFileError(f"{self.path}: {exc.message}") from None
+        t_end, samples, window = b.timing()
+        drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
+                      samples=samples, window=window, notes=b.notes, nodes=[n.name for n in parts["nodes"]],
+                      torques=b.torques, spans=b.spans, breaking=b.breaking, motors=b.motor_signals,
+                      inputs=b.used)
+        if b.rigid:
+            drive.notes += _rigid_notes(self, values, catalog, net, b.rigid)
+        return drive
+
+
+def _text(value) -> str | None:
+    if value is None:
+        return None
+    return str(value)
+
+
+class _Builder:
+    """Turns the entries into elements, converting each value once (SI floats)."""
+
+    def __init__(self, drive_file: DriveFile, values: dict, catalog, flexible: bool = False):
+        self.f, self.values, self.flexible = drive_file, values, flexible
+        self._catalog = catalog
+        self.current = "drive"
+        self.notes: list[str] = []
+        self.torques: list[tuple[str, str]] = []
+        self.spans: dict[str, float] = {}
+        self.breaking: dict[str, float] = {}
+        self.motor_signals: list[tuple[str, str]] = []
+        self.rigid: list[str] = []
+        self.used: dict = {}
+        self.node_entries = {e.name: e for e in drive_file.entries if e.section == "node"}
+
+    @property
+    def catalog(self):
+        if self._catalog is None:
+            from beltcalc.catalogs import load_catalog
+
+            self._catalog = load_catalog()
+        return self._catalog
+
+    # --- values ---------------------------------------------------------------------------
+    def get(self, e: Entry, key: str, default=None):
+        """The SI value of ``key`` of entry ``e`` (an override first), or ``default``."""
+        spec = KEYS[e.section][key]
+        address = key if e.section == "drive" else f"{e.name}.{key}"
+        if address in self.values:
+            value = self.values[address]
+            self.used[address] = (value, "set")
+            return value[0] if isinstance(value, tuple) else value
+        if key not in e.raw:
+            return default
+        raw = e.raw[key]
+        try:
+            value = _convert(raw, spec)
+        except (ValueError, TypeError) as exc:
+            self.f.fail(e.where, key, str(exc))
+        if spec.scalar:
+            self.used[address] = (value, "file")
+        return value
+
+    def get_unit(self, e: Entry, key: str):
+        """(SI value, unit) of a key with alternative dimensions, or (None, None)."""
+        spec = KEYS[e.section][key]
+        address = f"{e.name}.{key}"
+        if address in self.values:
+            v = self.values[address]
+            return v if isinstance(v, tuple) else (v, spec.unit.split("|")[0])
+        if key not in e.raw:
+            return None, None
+        try:
+            return _convert(e.raw[key], spec, keep_unit=True)
+        except (ValueError, TypeError) as exc:
+            self.f.fail(e.where, key, str(exc))
+
+    def need(self, e: Entry, key: str):
+        value = self.get(e, key)
+        if value is None:
+            self.f.fail(e.where, key, f"missing ({KEYS[e.section][key].help})")
+        return value
+
+    def node_name(self, e: Entry, key: str) -> str:
+        name = e.raw.get(key)
+        if not isinstance(name, str):
+            self.f.fail(e.where, key, "must name a node")
+        if name not in self.node_entries:
+            close = ", ".join(sorted(self.node_entries))
+            self.f.fail(e.where, key, f"{name!r} is not a node of this drive (nodes: {close})")
+        return name
+
+    def between(self, e: Entry, count: tuple[int, ...]) -> list[str]:
+        ends = e.raw.get("between")
+        if not isinstance(ends, list) or len(ends) not in count or not all(isinstance(x, str) for x in ends):
+            self.f.fail(e.where, "between", f"must list {' or '.join(map(str, count))} node names")
+        for name in ends:
+            if name not in self.node_entries:
+                self.f.fail(e.where, "between", f"{name!r} is not a node of this drive "
+                                                f"(nodes: {', '.join(sorted(self.node_entries))})")
+        return ends
+
+    def head_text(self, key: str):
+        return self.get(self.f.head, key)
+
+    def timing(self) -> tuple[float, int, float]:
+        h = self.f.head
+        self.current = "drive"
+        t_end = self.need(h, "t_end")
+        samples = self.get(h, "samples", 2001)
+        window = self.get(h, "window", 0.0)
+        if not (t_end > 0 and math.isfinite(t_end)):
+            self.f.fail("drive", "t_end", f"{t_end:g} s; it must be > 0 s")
+        if samples != int(samples) or not 2 <= samples <= 10_000_000:
+            self.f.fail("drive", "samples", f"{samples}; it must be a whole number 2..10,000,000")
+        if not 0 <= window < t_end:
+            self.f.fail("drive", "window", f"{window:g} s is not inside the run (0..{t_end:g} s)")
+        return t_end, int(samples), window
+
+    # --- elements -------------------------------------------------------------------------
+    def elements(self) -> dict:
+        parts = {k: [] for k in ("nodes", "couplings", "loads", "motors", "prescribed", "strands",
+                                 "speed_loops", "gears")}
+        self.extra_inertia: dict[str, float] = {}
+        self.radius: dict[str, float] = {}
+        for e in self.f.entries:
+            self.current = e.where
+            getattr(self, f"_{e.section}")(e, parts)
+        from beltcalc.sim.network import Inertia
+
+        parts["nodes"] = [Inertia(n.name, n.J + self.extra_inertia.get(n.name, 0.0), n.translation)
+                          for n in parts["nodes"]]
+        return parts
+
+    def _node(self, e: Entry, parts) -> None:
+        from beltcalc.sim.network import Inertia
+
+        inertia, mass = self.get(e, "inertia"), self.get(e, "mass")
+        if (inertia is None) == (mass is None):
+            self.f.fail(e.where, "inertia", "give exactly one of inertia (rotating) or mass (translating)")
+        value = inertia if mass is None else mass
+        if not (value >= 0 and math.isfinite(value)):
+            self.f.fail(e.where, "inertia" if mass is None else "mass", f"{value:g} is not allowed; it must be >= 0")
+        parts["nodes"].append(Inertia(e.name, value, translation=mass is not None))
+        d = self.get(e, "pitch_diameter")
+        teeth = self.get(e, "teeth")
+        if d is None and teeth is not None:
+            belt, chain = e.raw.get("belt"), e.raw.get("chain")
+            if (belt is None) == (chain is None):
+                self.f.fail(e.where, "teeth", "give the belt or the chain that runs on it (for the pitch diameter)")
+            if belt is not None:
+                from beltcalc.belt import pulley_pitch_diameter
+
+                d = pulley_pitch_diameter(teeth, self.lookup(e, "belt", "belt").pitch)
+            else:
+                from beltcalc.chain import sprocket_pitch_diameter
+
+                d = sprocket_pitch_diameter(self.lookup(e, "chain", "chain").pitch, teeth)
+        if d is not None:
+            if not d > 0:
+                self.f.fail(e.where, "pitch_diameter", f"{d:g} m; it must be > 0 m")
+            self.radius[e.name] = d / 2
+
+    def lookup(self, e: Entry, key: str, kind: str):
+        name = self.get(e, key)
+        try:
+            return getattr(self.catalog, kind)(name)
+        except BeltcalcError as exc:
+            self.f.fail(e.where, key, exc.message)
+
+    def _coupling(self, e: Entry, parts) -> None:
+        from beltcalc.sim.network import Coupling, Gear
+
+        ends = self.between(e, (1, 2))
+        C, d = self.need(e, "stiffness"), self.get(e, "damping", 0.0)
+        U = self.get(e, "ratio", 1.0)
+        j = ends[1] if len(ends) == 2 else None
+        if e.raw.get("rigid") is True and not self.flexible:
+            if j is None:
+                self.f.fail(e.where, "rigid", "a rigid coupling to the frame would hold the node still; "
+                                              "use a prescribed motor of speed 0")
+            parts["gears"].append(Gear(ends[0], j, U, name=e.name))
+            self.rigid.append(e.name)
+            return
+        parts["couplings"].append(Coupling(e.name, ends[0], j, C, d, U))
+        self.torques.append((f"T_{e.name}", e.name))
+
+    def _shaft(self, e: Entry, parts) -> None:
+        from beltcalc.chain import torsional_stiffness
+        from beltcalc.sim.network import Coupling
+
+        a, b = self.between(e, (2,))
+        D, bore, L = self.need(e, "diameter"), self.get(e, "bore", 0.0), self.need(e, "length")
+        G, rho = self.get(e, "shear_modulus"), self.get(e, "density")
+        material = self.get(e, "material")
+        if material is not None:
+            props = _materials(self.f, e).get(material)
+            if props is None:
+                self.f.fail(e.where, "material", f"{material!r} is not in catalogs/materials.toml "
+                                                 f"({', '.join(_materials(self.f, e))})")
+            G = props["shear_modulus"] if G is None else G
+            rho = props["density"] if rho is None else rho
+        if G is None:
+            self.f.fail(e.where, "shear_modulus", "give the material or the shear modulus")
+        C = torsional_stiffness(D, bore, L, G)
+        beta = self.get(e, "damping_time")
+        d = self.get(e, "damping", 0.0) if beta is None else beta * C
+        parts["couplings"].append(Coupling(e.name, a, b, C, d))
+        self.torques.append((f"T_{e.name}", e.name))
+        if rho:
+            from beltcalc.drive import cylinder_inertia
+
+            J = cylinder_inertia(D, bore, L, rho)
+            for node in (a, b):
+                self.extra_inertia[node] = self.extra_inertia.get(node, 0.0) + J / 2
+            self.notes.append(f"shaft {e.name}: C = {C:.5g} N m/rad; its own inertia {J:.4g} kg m^2, half to "
+                              f"{a} and half to {b}")
+
+    def _gear(self, e: Entry, parts) -> None:
+        from beltcalc.sim.network import Gear
+
+        a, b = self.between(e, (2,))
+        parts["gears"].append(Gear(a, b, self.need(e, "ratio"), name=e.name))
+
+    def _end_radius(self, e: Entry, key: str) -> tuple[str, float]:
+        node = self.node_name(e, key)
+        if self.node_entries[node].raw.get("mass") is not None:
+            return node, 1.0
+        r = self.radius.get(node)
+        if r is None:
+            self.f.fail(e.where, key, f"node {node!r} has no pitch diameter: give it teeth and the belt/chain, "
+                                      "or pitch_diameter")
+        return node, r
+
+    def _belt_span(self, e: Entry, parts) -> None:
+        from beltcalc import belt as bm
+        from beltcalc.sim.network import Coupling, Strand
+
+        (i, r_i), (j, r_j) = self._end_radius(e, "from"), self._end_radius(e, "to")
+        belt = self.lookup(e, "belt", "belt")
+        width, length = self.need(e, "width"), self.need(e, "length")
+        try:
+            row = belt.width_row(width)
+        except BeltcalcError as exc:
+            self.f.fail(e.where, "width", exc.message)
+        if row.C_spec is None:
+            self.f.fail(e.where, "belt", f"{belt.name} has no C_spec for {width * 1e3:g} mm in its catalog")
+        k = bm.belt_stiffness(row.C_spec, length)
+        b = self.get(e, "damping")
+        if b is None:
+            b, why = self._belt_damping(e, belt, width, length, i if r_i != 1.0 else j)
+            self.notes.append(f"belt span {e.name}: k = C_spec / L = {k:.5g} N/m, b = {b:.4g} N s/m {why}")
+        F0 = self.get(e, "pretension", 0.0)
+        if row.F_Tadm:
+            self.breaking[e.name] = row.F_Tadm
+        if e.raw.get("tension_only", True) is False:
+            # one two-way spring k = C_spec / L (the substitute model, Wojtkowiak et al. eq. 5):
+            # C (phi_i - U phi_j) with C = k r_i^2, U = r_j / r_i: the torque r_i F
+            parts["couplings"].append(Coupling(e.name, i, j, k * r_i ** 2, b * r_i ** 2, r_j / r_i))
+            self.spans[e.name] = r_i
+            return
+        parts["strands"].append(Strand(e.name, i, j, r_i, r_j, k, b, F0))
+
+    def _belt_damping(self, e: Entry, belt, width: float, length: float, pulley: str) -> tuple[float, str]:
+        """b_TB as `beltcalc tension` finds it: fitted to F_tspec(n) on the pulley the span
+        leaves (Wojtkowiak et al. 2021, section 3.2), or the catalog's value."""
+        from beltcalc import belt as bm
+
+        if belt.F_tspec and pulley in self.radius:
+            D = 2 * self.radius[pulley]
+            z = max(1, round(math.pi * D / belt.pitch))
+            z_e = bm.teeth_in_mesh(z, z, belt.pitch, length, belt.z_e_max)
+            fit = bm.damping_from_tooth_load(belt.F_tspec, D, width, z_e)
+            return fit.damping, (f"(fitted to the catalog's F_tspec(n) on {pulley}, D = {D * 1e3:.4g} mm, "
+                                 f"z_e = {z_e:g}, R^2 = {fit.r_squared:.3f})")
+        if belt.damping is not None:
+            return belt.damping, f"(catalog value: {belt.damping_source or belt.source})"
+        self.f.fail(e.where, "damping", f"{belt.name} has no F_tspec(n) table and no damping value; give damping")
+
+    def _chain_strand(self, e: Entry, parts) -> None:
+        from beltcalc.chain import strand_stiffness
+        from beltcalc.sim.network import Strand
+
+        (i, r_i), (j, r_j) = self._end_radius(e, "from"), self._end_radius(e, "to")
+        chain = self.lookup(e, "chain", "chain")
+        c = strand_stiffness(self.need(e, "stiffness"), self.need(e, "length"))
+        beta = self.get(e, "damping_time")
+        b = self.get(e, "damping", 0.0) if beta is None else beta * c
+        parts["strands"].append(Strand(e.name, i, j, r_i, r_j, c, b, self.get(e, "pretension", 0.0)))
+        self.breaking[e.name] = chain.breaking_load
+
+    def _motor(self, e: Entry, parts) -> None:
+        from beltcalc.sim.network import InductionMotor, Load, Prescribed, SpeedLoop
+
+        kind, node = self.need(e, "kind"), self.node_name(e, "node")
+        if kind not in KINDS:
+            self.f.fail(e.where, "kind", f"{kind!r}; use one of {', '.join(KINDS)}")
+        allowed = {"induction": {"rated_torque", "rated_power", "rated_speed", "breakdown_factor", "breakdown_slip",
+                                 "supply", "pole_pairs", "ramp"},
+                   "prescribed": {"speed", "accel", "distance", "max_speed", "max_accel", "jerk", "start"},
+                   "speed_loop": {"gain", "reference", "feedforward"}, "torque": {"torque"}}[kind]
+        for key in e.raw:
+            if key not in allowed | {"name", "kind", "node"}:
+                self.f.fail(e.where, key, f"not a key of a {kind} motor (it has {', '.join(sorted(allowed))})")
+        if kind == "induction":
+            torque = self.get(e, "rated_torque")
+            if torque is None:
+                power, speed = self.get(e, "rated_power"), self.get(e, "rated_speed")
+                if power is None or speed is None:
+                    self.f.fail(e.where, "rated_torque", "give rated_torque, or rated_power and rated_speed")
+                torque = power / speed
+            f = self.need(e, "supply")
+            pairs = self.get(e, "pole_pairs", 1)
+            if pairs < 1:
+                self.f.fail(e.where, "pole_pairs", f"{pairs}; it must be >= 1")
+            w0 = 2 * math.pi * f / pairs
+            ramp = self.get(e, "ramp", 0.0)
+            table = ((0.0, 0.0), (ramp, w0)) if ramp else ()
+            parts["motors"].append(InductionMotor(node, self.need(e, "breakdown_factor") * torque,
+                                                  self.need(e, "breakdown_slip"), w0, 2 * math.pi * f,
+                                                  sync_table=table, name=e.name))
+            self.motor_signals.append((f"M_{e.name}", node))
+        elif kind == "prescribed":
+            parts["prescribed"].append(Prescribed(node, self.get(e, "speed", 0.0), self._move(e)))
+            self.motor_signals.append((f"T_drive_{node}", node))
+        elif kind == "speed_loop":
+            ref = self.get(e, "reference")
+            if ref is None:
+                self.f.fail(e.where, "reference", "a speed loop needs its speed reference table")
+            parts["speed_loops"].append(SpeedLoop(node, self.need(e, "gain"), ref, self.get(e, "feedforward", ())))
+            self.motor_signals.append((f"T_drive_{node}", node))
+        else:
+            table = self.need(e, "torque")
+            parts["loads"].append(Load(node, table=tuple((t, -v) for t, v in table)))
+
+    def _move(self, e: Entry) -> tuple:
+        accel = self.get(e, "accel")
+        distance = self.get(e, "distance")
+        if accel is not None and distance is not None:
+            self.f.fail(e.where, "distance", "give an accel table or a move (distance, max_speed, max_accel), not both")
+        if distance is None:
+            return tuple(accel or ())
+        from beltcalc import profiles
+
+        speed, acc = self.need(e, "max_speed"), self.need(e, "max_accel")
+        jerk = self.get(e, "jerk")
+        profile = (profiles.scurve(speed, acc, jerk, distance) if jerk is not None
+                   else profiles.trapezoid(speed, acc, distance))
+        t = self.get(e, "start", 0.0)
+        table = []
+        for ph in profile.phases:
+            if ph.duration > 0:
+                table += [(t, ph.accel), (t + ph.duration, ph.accel1)]
+                t += ph.duration
+        table.append((t, 0.0))
+        kind = "S-curve" if jerk is not None else "trapezoid"
+        self.notes.append(f"motor {e.name}: {kind} move of {distance:g} over {t - self.get(e, 'start', 0.0):.4g} s "
+                          f"(peak speed {profile.peak_speed:.4g})")
+        return tuple(table)
+
+    def _load(self, e: Entry, parts) -> None:
+        from beltcalc.sim.network import Load
+
+        node = self.node_name(e, "node")
+        freq = self.get_unit(e, "frequency")
+        omega = 0.0
+        if freq[0] is not None:
+            omega = freq[0] * (2 * math.pi if freq[1] == "Hz" else 1.0)
+        order = self.get(e, "order")
+        if order is not None and freq[0] is not None:
+            self.f.fail(e.where, "order", "give frequency (in time) or order (in the shaft angle), not both")
+        parts["loads"].append(Load(node, self.get(e, "torque", 0.0), self.get(e, "amplitude", 0.0), omega,
+                                   self.get(e, "phase", 0.0), in_angle=order is not None,
+                                   table=tuple(self.get(e, "table", ())), start=self.get(e, "start", 0.0),
+                                   order=1.0 if order is None else order))
+
+
+def _convert(raw, spec: Key, keep_unit: bool = False):
+    """A raw TOML value as its SI value (ValueError with the reason otherwise)."""
+    from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
+
+    unit = spec.unit
+    if unit == "text":
+        if not isinstance(raw, str):
+            raise ValueError(f"must be a text, not {raw!r}")
+        return raw
+    if unit == "bool":
+        if not isinstance(raw, bool):
+            raise ValueError(f"must be true or false, not {raw!r}")
+        return raw
+    if unit == "int":
+        if isinstance(raw, bool) or not isinstance(raw, int):
+            raise ValueError(f"must be a whole number, not {raw!r}")
+        return raw
+    if unit.startswith("table:"):
+        x_unit, y_unit = unit[6:].split(",")
+        if not isinstance(raw, list) or not raw or not all(isinstance(p, list) and len(p) == 2 for p in raw):
+            raise ValueError("must be a list of [time, value] pairs, e.g. [[\"0 s\", \"0 N*m\"], [\"1 s\", \"5 N*m\"]]")
+        out = []
+        for t, v in raw:
+            out.append((_convert(t, Key(x_unit, "")), _convert(v, Key(y_unit, ""))))
+        times = [t for t, _ in out]
+        if any(b < a for a, b in zip(times, times[1:])):
+            raise ValueError("the times must rise (a time may repeat for a jump)")
+        return tuple(out)
+    if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
+        raise ValueError(f"must be a quantity text such as '5 {unit.split('|')[0]}', not {raw!r}")
+    try:
+        if "|" in unit:
+            value, u = parse_quantity_any(raw, tuple(unit.split("|")))
+            return (value, u) if keep_unit else value
+        return parse_quantity(raw, unit)
+    except QuantityError as exc:
+        raise ValueError(str(exc)) from None
+
+
+def _materials(f: DriveFile, e: Entry) -> dict:
+    """catalogs/materials.toml: {name: {"shear_modulus": Pa, "density": kg/m^3}}."""
+    from beltcalc.catalogs import builtin_dir
+    from beltcalc.units import parse_quantity
+
+    path = builtin_dir() / "materials.toml"
+    data = _read_toml(path)
+    out = {}
+    for name, props in data.get("materials", {}).items():
+        out[name] = {"shear_modulus": parse_quantity(props["shear_modulus"], "Pa"),
+                     "density": parse_quantity(props["density"], "kg/m^3")}
+    return out
+
+
+def _rigid_notes(f: DriveFile, values: dict, catalog, rigid_net, names: list[str]) -> list[str]:
+    """What making couplings rigid costs: the undamped frequencies of the flexible drive
+    against the rigid one (the rigid drive has one mode fewer per rigid coupling)."""
+    import numpy as np
+
+    from beltcalc.sim.network import Network
+
+    b = _Builder(f, values, catalog, flexible=True)
+    parts = b.elements()
+    flex = Network(parts["nodes"], parts["couplings"], parts["loads"], parts["motors"] or None,
+                   prescribed=parts["prescribed"], strands=parts["strands"], speed_loops=parts["speed_loops"],
+                   gears=parts["gears"])
+    f_flex, f_rigid = undamped_frequencies(flex), undamped_frequencies(rigid_net)
+    removed = len(f_flex) - len(f_rigid)
+    kept = f_flex[:len(f_rigid)]
+    shift = float(np.max(np.abs(np.array(f_rigid) - kept) / kept)) if len(f_rigid) else 0.0
+    gone = ", ".join(f"{v:.4g} Hz" for v in f_flex[len(f_rigid):]) or "none"
+    return [f"rigid: {', '.join(names)} made rigid; the flexible drive's highest {removed} mode(s) ({gone}) are "
+            f"removed and the others move by at most {shift:.2%} (undamped, strands taut)"]
+
+
+def undamped_frequencies(net) -> list[float]:
+    """The undamped natural frequencies [Hz] of a network's elastic modes, lowest first
+    (strands taut, motors and prescribed nodes left free; rigid-body modes left out):
+    the square roots of the eigenvalues of M^-1 K.
+
+    >>> from beltcalc.sim.network import Coupling, Inertia, Network
+    >>> net = Network([Inertia("a", 1.0), Inertia("b", 1.0)], [Coupling("c", "a", "b", 2.0, 0.0)])
+    >>> [round(f * 2 * math.pi, 12) for f in undamped_frequencies(net)]
+    [2.0]
+    """
+    import numpy as np
+
+    s = 1.0 / np.sqrt(net.mass)
+    w2 = np.linalg.eigvalsh(net.K * s[:, None] * s[None, :])
+    floor = 1e-9 * max(1.0, float(np.max(np.abs(w2)))) if w2.size else 0.0
+    return sorted(float(math.sqrt(v)) / (2 * math.pi) for v in w2 if v > floor)
+
+
+def read_drive(path: str | Path) -> DriveFile:
+    """Read a drive file (structure checked, values not yet converted)."""
+    return DriveFile(path)
+
+
+def load_drive(path: str | Path, catalog=None, **values) -> Drive:
+    """Read and build a drive file; ``values`` replace the file's, by address with ``__``
+    for ``.`` (``load_drive(p, jaw__stiffness=2000.0)``), in SI floats."""
+    f = DriveFile(path)
+    return f.build({k.replace("__", "."): v for k, v in values.items()}, catalog)

@@ -1,0 +1,141 @@
+"""Tests of the generalised network (beltcalc.sim.network, beltcalc.sim.elements): rigid
+gears merged into one coordinate, massless nodes condensed, several motors, pint quantities,
+a prescribed move from a motor-size profile. References: hand-typed matrices solved by
+scipy.linalg.eigh, the static balance, and the profile's own distance."""
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from beltcalc.errors import InputError
+from beltcalc.sim.core import SolverConfig, simulate
+from beltcalc.sim.drivefile import undamped_frequencies
+from beltcalc.sim.network import Coupling, Gear, Inertia, InductionMotor, Load, Network, Prescribed
+
+
+def _eigh_hz(M, K):
+    w2 = sla.eigh(np.asarray(K, float), np.asarray(M, float), eigvals_only=True)
+    return sorted(math.sqrt(v) / (2 * math.pi) for v in w2 if v > 1e-9 * max(w2))
+
+
+def test_gear_merges_two_nodes_into_one_coordinate():
+    # disk a -- spring C -- gear g1 =(ratio 3)= gear g2 -- spring C2 -- disk b
+    # coordinates q = [phi_a, phi_g1, phi_b]; phi_g2 = phi_g1 / 3:
+    # M = diag(Ja, J1 + J2/9, Jb), K by hand
+    Ja, J1, J2, Jb, C, C2, i = 2.0, 0.1, 0.5, 4.0, 1000.0, 3000.0, 3.0
+    net = Network([Inertia("a", Ja), Inertia("g1", J1), Inertia("g2", J2), Inertia("b", Jb)],
+                  [Coupling("s1", "a", "g1", C, 0.0), Coupling("s2", "g2", "b", C2, 0.0)],
+                  gears=[Gear("g1", "g2", i)])
+    assert net.coords == ["a", "g1", "b"]
+    M = np.diag([Ja, J1 + J2 / i ** 2, Jb])
+    K = np.array([[C, -C, 0.0], [-C, C + C2 / i ** 2, -C2 / i], [0.0, -C2 / i, C2]])
+    np.testing.assert_allclose(net.M, M, rtol=1e-15)
+    np.testing.assert_allclose(net.K, K, rtol=1e-15)
+    assert undamped_frequencies(net) == pytest.approx(_eigh_hz(M, K), rel=1e-12)
+
+
+def test_gear_written_from_either_end_gives_the_same_network():
+    nodes = [Inertia("x", 1.0), Inertia("y", 2.0), Inertia("z", 3.0)]
+    cps = [Coupling("c", "x", "y", 50.0, 0.0)]
+    one = Network(nodes, cps + [Coupling("d", "z", None, 80.0, 0.0)], gears=[Gear("y", "z", 2.0)])
+    two = Network(nodes, cps + [Coupling("d", "z", None, 80.0, 0.0)], gears=[Gear("z", "y", 0.5)])
+    assert undamped_frequencies(one) == pytest.approx(undamped_frequencies(two), rel=1e-13)
+
+
+def test_gear_loop_with_inconsistent_ratios_is_refused():
+    nodes = [Inertia(n, 1.0) for n in "abc"]
+    with pytest.raises(InputError, match="rigid gears form a loop with inconsistent ratios"):
+        Network(nodes, [], gears=[Gear("a", "b", 2.0), Gear("b", "c", 2.0), Gear("a", "c", 3.0)])
+    # a consistent loop is fine
+    Network(nodes, [], gears=[Gear("a", "b", 2.0), Gear("b", "c", 2.0), Gear("a", "c", 4.0)])
+
+
+def test_geared_node_signals_follow_the_ratio():
+    net = Network([Inertia("m", 0.01), Inertia("p", 0.002), Inertia("w", 0.3)],
+                  [Coupling("shaft", "p", "w", 400.0, 0.2)], [Load("w", 2.0)],
+                  prescribed=[Prescribed("m", 100.0)], gears=[Gear("m", "p", 4.0)])
+    r = simulate(net, 0.5, 501, SolverConfig("exact"))
+    np.testing.assert_allclose(r["omega_p"], r["omega_m"] / 4.0, rtol=1e-14)
+    np.testing.assert_allclose(r["phi_p"], r["phi_m"] / 4.0, rtol=1e-14)
+    # at constant speed the geared pair does not accelerate: the drive torque at the motor is
+    # the shaft's torque reflected through the ratio, T_shaft / 4, at every sample
+    np.testing.assert_allclose(r["T_drive_m"], r["T_shaft"] / 4.0, rtol=1e-9, atol=1e-12 * np.abs(r["T_shaft"]).max())
+
+
+def test_massless_node_between_damped_springs_with_proportional_damping_is_exact():
+    # springs with d = beta C on both sides of a massless node: the node follows the static
+    # balance exactly; compare with a tiny (1e-12) inertia at the node under a step load
+    beta = 1e-3
+    cps = [Coupling("a", "1", "m", 300.0, beta * 300.0), Coupling("b", "m", "2", 600.0, beta * 600.0)]
+    free = Network([Inertia("1", 0.01), Inertia("m", 0.0), Inertia("2", 0.02)], cps, [Load("2", 1.0)])
+    tiny = Network([Inertia("1", 0.01), Inertia("m", 1e-12), Inertia("2", 0.02)], cps, [Load("2", 1.0)])
+    a = simulate(free, 0.3, 301, SolverConfig("exact"))
+    b = simulate(tiny, 0.3, 301, SolverConfig("radau", rtol=1e-11, atol=1e-14, estimate_error=False))
+    np.testing.assert_allclose(a["omega_2"], b["omega_2"], atol=1e-6 * np.abs(b["omega_2"]).max())
+    np.testing.assert_allclose(a["phi_m"], b["phi_m"], atol=1e-6 * np.abs(b["phi_m"]).max())
+
+
+def test_node_without_a_path_to_an_inertia_is_refused():
+    with pytest.raises(InputError, match=r"node\(s\) lost have no inertia and no spring path to one"):
+        Network([Inertia("a", 1.0), Inertia("lost", 0.0)], [])
+
+
+def test_load_on_a_massless_node_is_refused():
+    cps = [Coupling("a", "1", "m", 300.0, 0.0), Coupling("b", "m", "2", 600.0, 0.0)]
+    with pytest.raises(InputError, match="a node without inertia cannot carry a load"):
+        Network([Inertia("1", 0.01), Inertia("m", 0.0), Inertia("2", 0.02)], cps, [Load("m", 1.0)])
+
+
+def test_two_induction_motors_share_the_load_by_their_characteristics():
+    # two motors on one stiff shaft line against a load: in steady state both run at the
+    # common speed w and deliver 2 Mc_k (w0_k - w) / (w0_k Sc_k), summing to the load
+    m1 = InductionMotor("a", 10.0, 0.2, 157.08, 314.16, name="m1")
+    m2 = InductionMotor("b", 20.0, 0.25, 157.08, 314.16, name="m2")
+    load = 6.0
+    net = Network([Inertia("a", 0.01), Inertia("b", 0.02), Inertia("c", 0.05)],
+                  [Coupling("ab", "a", "b", 2e4, 5.0), Coupling("bc", "b", "c", 2e4, 5.0)], [Load("c", load)],
+                  motor=[m1, m2])
+    assert [s for s, _ in net.state_names()[-2:]] == ["M_m1", "M_m2"]
+    r = simulate(net, 3.0, 3001, SolverConfig("exact"))
+    g1 = 2 * m1.breakdown_torque / (m1.sync_speed * m1.breakdown_slip)
+    g2 = 2 * m2.breakdown_torque / (m2.sync_speed * m2.breakdown_slip)
+    w = (g1 * m1.sync_speed + g2 * m2.sync_speed - load) / (g1 + g2)
+    assert r["omega_c"][-1] == pytest.approx(w, rel=1e-9)
+    assert r["M_m1"][-1] == pytest.approx(m1.static_torque(w), rel=1e-8)
+    assert r["M_m2"][-1] == pytest.approx(m2.static_torque(w), rel=1e-8)
+
+
+def test_two_motors_need_two_names():
+    m = InductionMotor("a", 10.0, 0.2, 157.0, 314.0)
+    with pytest.raises(InputError, match="give each motor a name of its own"):
+        Network([Inertia("a", 0.01), Inertia("b", 0.01)], [Coupling("c", "a", "b", 1e3, 0.0)],
+                motor=[m, InductionMotor("b", 10.0, 0.2, 157.0, 314.0)])
+
+
+def test_pint_quantities_are_converted_or_refused_by_name():
+    from beltcalc.units import ureg
+
+    Q = ureg().Quantity
+    node = Inertia("a", Q(3.5, "g*m^2"))
+    assert node.J == pytest.approx(3.5e-3, rel=1e-15)
+    c = Coupling("c", "a", None, Q(2.0, "kN*m/rad"), Q(1.0, "N*m*s/rad"))
+    assert (c.C, c.d) == pytest.approx((2000.0, 1.0), rel=1e-15)
+    load = Load("a", amplitude=Q(1.0, "N*m"), omega=Q(60.0, "rpm"))
+    assert load.omega == pytest.approx(2 * math.pi, rel=1e-15)
+    with pytest.raises(InputError, match=r"^Load.omega = 5 m: it must be in rad/s$"):
+        Load("a", omega=Q(5.0, "m"))
+    with pytest.raises(InputError, match=r"^Coupling.U = 2 m: it must be a plain number$"):
+        Coupling("c", "a", None, 1.0, 0.0, Q(2.0, "m"))
+
+
+def test_angle_locked_load_of_order_two_has_its_jacobian():
+    net = Network([Inertia("a", 0.5)], [Coupling("g", "a", None, 10.0, 0.1)],
+                  [Load("a", amplitude=0.7, in_angle=True, order=2.0, phase=0.3)])
+    x = np.array([0.4, 1.0])
+    jac = net.nonlinear_jacobian(x)
+    h = 1e-7
+    fd = (net.nonlinear_terms(0.0, x + [h, 0.0]) - net.nonlinear_terms(0.0, x - [h, 0.0])) / (2 * h)
+    assert jac[1, 0] == pytest.approx(fd[1], rel=1e-7)
+    assert jac[1, 0] == pytest.approx(-0.7 * 2.0 * math.cos(2.0 * 0.4 + 0.3) / 0.5, rel=1e-14)

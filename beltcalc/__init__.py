@@ -1,7 +1,54 @@
 """beltcalc: belt and chain drive trains, from catalog data to numbers you can build from.
 
-The library works in SI floats; see :mod:`beltcalc.units` for parsing quantities,
-:mod:`beltcalc.catalogs` for the data, :mod:`beltcalc.tension` for the tension design.
+The public API (names load on first use, so ``import beltcalc`` stays cheap):
+
+- drive trains: :func:`load_drive` (a drive file, or a built-in one by name),
+  :func:`simulate`, :class:`SolverConfig`, :class:`SimResult`, and the element classes
+  :class:`Network`, :class:`Inertia`, :class:`Coupling`, :class:`Gear`, :class:`Strand`,
+  :class:`Load`, :class:`InductionMotor`, :class:`Prescribed`, :class:`SpeedLoop`;
+- design: :func:`design_tension` with :class:`TensionInputs`, :func:`size_axis` with
+  :class:`SizingInputs`, :func:`load_catalog`.
+
+Values are SI floats; pint quantities are accepted where the library takes SI floats and
+converted (or refused with a message naming the field). See the README's "Python" section.
+
+>>> import beltcalc
+>>> drive = beltcalc.load_drive("friswell_5_disks")
+>>> [round(f, 2) for f in beltcalc.undamped_frequencies(drive.network)]
+[81.21, 141.21, 378.95, 536.36]
 """
 
+from __future__ import annotations
+
+import importlib
+
 __version__ = "0.1.0"
+
+_WHERE = {
+    "load_drive": "beltcalc.sim.drivefile", "Drive": "beltcalc.sim.drivefile",
+    "DriveFile": "beltcalc.sim.drivefile", "undamped_frequencies": "beltcalc.sim.drivefile",
+    "simulate": "beltcalc.sim.drivefile",
+    "SolverConfig": "beltcalc.sim.core", "SimResult": "beltcalc.sim.result",
+    "Network": "beltcalc.sim.network", "Inertia": "beltcalc.sim.elements", "Coupling": "beltcalc.sim.elements",
+    "Gear": "beltcalc.sim.elements", "Strand": "beltcalc.sim.elements", "Load": "beltcalc.sim.elements",
+    "InductionMotor": "beltcalc.sim.elements", "Prescribed": "beltcalc.sim.elements",
+    "SpeedLoop": "beltcalc.sim.elements",
+    "design_tension": "beltcalc.tension", "TensionInputs": "beltcalc.tension",
+    "size_axis": "beltcalc.sizing", "SizingInputs": "beltcalc.sizing",
+    "load_catalog": "beltcalc.catalogs",
+    "BeltcalcError": "beltcalc.errors", "InputError": "beltcalc.errors",
+}
+__all__ = sorted(_WHERE) + ["__version__"]
+
+
+def __getattr__(name: str):
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module 'beltcalc' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return __all__

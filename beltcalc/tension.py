@@ -14,6 +14,7 @@ from beltcalc import belt as bm
 from beltcalc.catalogs import BeltProfile, BeltWidth, Thread
 from beltcalc.errors import InputError, require_positive
 from beltcalc.screw import BoltTorque, bolt_torque
+from beltcalc.si import convert_fields
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,15 @@ class TensionInputs:
     belt_weight: float | None = None
     bearing_friction: float = 0.0
     bearing_diameter: float = 0.0
+
+    def __post_init__(self):
+        convert_fields(self, _INPUT_UNITS)
+
+
+_INPUT_UNITS = {"center_distance": "m", "width": "m", "mass": "kg", "accel": "m/s^2", "tension_accel": "m/s^2",
+                "tension_speed": "m/s", "mu": "", "pulley_diameter": "m", "damping": "N*s/m", "span_length": "m",
+                "stiffness": "N/m", "f_tadm": "N", "c_spec": "N", "belt_weight": "kg/m", "bearing_friction": "",
+                "bearing_diameter": "m"}
 
 
 @dataclass(frozen=True)

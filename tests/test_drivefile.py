@@ -275,3 +275,35 @@ def test_prescribed_move_from_a_motor_size_profile_reaches_its_distance(tmp_path
     assert r["omega_motor"][-1] == pytest.approx(0.0, abs=1e-10)
     assert np.abs(r["omega_motor"]).max() == pytest.approx(20.0, rel=1e-12)
     assert any("S-curve move" in n for n in d.notes)
+
+
+def test_the_format_reference_lists_every_key():
+    from beltcalc.sim.drivefile import KEYS
+
+    doc = (builtin_dir().parent / "docs" / "drive_files.md").read_text(encoding="utf-8")
+    for section, keys in KEYS.items():
+        assert (f"`[{section}]`" if section == "drive" else f"`[[{section}]]`") in doc
+        for key in keys:
+            assert f"| `{key}` |" in doc, (section, key)
+
+
+def test_conveyor_example_runs_every_element_kind_to_its_static_balance():
+    # steady state before the ripple starts (3 s): each drum shaft carries its 15 N m, the
+    # motor (10:1 reducer, belt and chain 1:1) 30 N m / 10 = 3 N m, and runs where its
+    # linearised characteristic gives 3 N m: w = w0 (1 - S_c M / (2 M_c))
+    import beltcalc
+
+    d = beltcalc.load_drive("conveyor")
+    r = beltcalc.simulate(d)
+    assert r.error_relative == pytest.approx(0.0, abs=1e-6)
+    assert r.summary("T_drum1_shaft", 2.8, 3.0).mean == pytest.approx(15.0, rel=1e-4)
+    assert r.summary("M_motor", 2.8, 3.0).mean == pytest.approx(3.0, rel=1e-4)
+    w0 = 2 * math.pi * 50 / 2
+    Mc = 2.3 * 1100 / (1440 * math.pi / 30)
+    assert r.summary("omega_rotor", 2.8, 3.0).mean == pytest.approx(w0 * (1 - 0.2 * 3.0 / (2 * Mc)), rel=1e-5)
+    # the pulley keyed to the sprocket turns with it (rigid hub), and the belt's tight and
+    # slack spans differ by the belt's effective pull 15 N m / r
+    np.testing.assert_allclose(r["omega_sprocket1"], r["omega_pulley2"], rtol=1e-14, atol=1e-12)
+    r_pulley = 40 * 0.010 / math.pi / 2
+    pull = r.summary("F_upper", 2.8, 3.0).mean - r.summary("F_lower", 2.8, 3.0).mean
+    assert pull == pytest.approx(30.0 / r_pulley, rel=1e-4)

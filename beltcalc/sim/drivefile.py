@@ -767,13 +767,71 @@ def undamped_frequencies(net) -> list[float]:
     return sorted(float(math.sqrt(v)) / (2 * math.pi) for v in w2 if v > floor)
 
 
-def read_drive(path: str | Path) -> DriveFile:
-    """Read a drive file (structure checked, values not yet converted)."""
-    return DriveFile(path)
+def drive_names() -> list[str]:
+    """Names of the built-in drive files (``catalogs/drives/*.toml``)."""
+    from beltcalc.catalogs import builtin_dir
+
+    return sorted(p.stem for p in (builtin_dir() / "drives").glob("*.toml"))
 
 
-def load_drive(path: str | Path, catalog=None, **values) -> Drive:
-    """Read and build a drive file; ``values`` replace the file's, by address with ``__``
-    for ``.`` (``load_drive(p, jaw__stiffness=2000.0)``), in SI floats."""
-    f = DriveFile(path)
-    return f.build({k.replace("__", "."): v for k, v in values.items()}, catalog)
+def drive_path(ref: str | Path) -> Path:
+    """A drive file by path, or a built-in one by name (``sewing``)."""
+    from beltcalc.catalogs import builtin_dir
+    from beltcalc.errors import UnknownNameError
+
+    path = Path(ref)
+    if path.suffix == ".toml" or path.exists():
+        return path
+    builtin = builtin_dir() / "drives" / f"{ref}.toml"
+    if builtin.exists():
+        return builtin
+    raise UnknownNameError(f"{str(ref)!r} is neither a drive file nor a built-in drive "
+                           f"({', '.join(drive_names())})", param="file")
+
+
+def load_drive(ref: str | Path, catalog=None, **values) -> Drive:
+    """Read and build a drive file (a path, or a built-in drive by name); ``values`` replace
+    the file's, by address with ``__`` for ``.`` (``load_drive(p, jaw__stiffness=2000.0)``),
+    as SI floats or pint quantities.
+
+    >>> d = load_drive("friswell_geared", input__diameter=0.25)
+    >>> round(undamped_frequencies(d.network)[0], 3)
+    15.143
+    """
+    from beltcalc.si import as_si
+
+    f = DriveFile(drive_path(ref))
+    units = {p.name: p.unit for p in f.params()}
+    given = {}
+    for key, value in values.items():
+        address = key.replace("__", ".")
+        unit = units.get(address, "")
+        given[address] = as_si(value, None if "|" in unit or unit in ("int", "text") else unit, address)
+    return f.build(given, catalog)
+
+
+def simulate(target, t_end=None, samples: int | None = None, config=None, **solver):
+    """Simulate a :class:`Drive` (its own timing unless given) or a
+    :class:`~beltcalc.sim.network.Network` (``t_end`` needed) on the one ODE core
+    (:func:`beltcalc.sim.core.simulate`). ``t_end`` may be a pint quantity; ``solver``
+    options build a :class:`~beltcalc.sim.core.SolverConfig` (``method="radau"``,
+    ``error_tol=1e-8``) unless ``config`` is given.
+
+    >>> r = simulate(load_drive("friswell_5_disks"), samples=201)
+    >>> r.method, float(r.t[-1]), r.signals["omega_disk1"].size
+    ('exact', 0.1, 201)
+    """
+    from beltcalc.si import as_si
+    from beltcalc.sim.core import SolverConfig
+    from beltcalc.sim.core import simulate as run
+
+    cfg = config if config is not None else SolverConfig(**solver)
+    if isinstance(target, Drive):
+        net = target.network
+        t_end = target.t_end if t_end is None else t_end
+        samples = target.samples if samples is None else samples
+    else:
+        net = target
+        if t_end is None:
+            raise InputError("give t_end to simulate a Network (a Drive has its own)", param="t_end")
+    return run(net, as_si(t_end, "s", "t_end"), int(samples or 2001), cfg)

@@ -27,15 +27,17 @@ the wrong dimension is refused with a message naming the field.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
 from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.si import convert_fields
 
 Points = tuple[tuple[float, float], ...]
 
-#: SI unit of each float field that may arrive as a pint quantity (field name -> unit)
+#: SI unit of each float field that may arrive as a pint quantity (None: SI base units of
+#: its own dimension, for fields that are a torque or a force by the node they act on)
 _UNITS = {
     "J": None, "C": None, "d": None, "U": "", "r_i": "m", "r_j": "m", "stiffness": "N/m", "damping": "N*s/m",
     "preload": "N", "mean": None, "amplitude": None, "omega": "rad/s", "phase": "rad", "start": "s",
@@ -44,32 +46,12 @@ _UNITS = {
 }
 
 
-def _si(owner, name: str, value):
-    """``value`` as an SI float: a pint quantity (duck-typed: ``to`` and ``magnitude``) is
-    converted to the field's SI base units, or refused if the field's unit is known and the
-    dimension is wrong. Plain numbers pass unchanged."""
-    if not (hasattr(value, "magnitude") and hasattr(value, "to_base_units")):
-        return value
-    unit = _UNITS.get(name)
-    try:
-        q = value.to(unit) if unit not in (None, "") else value.to_base_units()
-    except Exception:     # pint's DimensionalityError; the library does not import pint
-        raise InputError(f"{type(owner).__name__}.{name} = {value:g~}: it must be in {unit}") from None
-    if unit == "" and not q.dimensionless:
-        raise InputError(f"{type(owner).__name__}.{name} = {value:g~}: it must be a plain number")
-    return float(q.magnitude)
-
-
 class Element:
     """Base of every element kind: converts pint quantities on construction (frozen
     dataclasses: ``object.__setattr__``) and gives every hook a do-nothing default."""
 
     def __post_init__(self):
-        for f in fields(self):
-            value = getattr(self, f.name)
-            converted = _si(self, f.name, value)
-            if converted is not value:
-                object.__setattr__(self, f.name, converted)
+        convert_fields(self, _UNITS)
 
     def check(self, net) -> None:
         """Refuse impossible values."""

@@ -104,6 +104,25 @@ class SimResult:
         last = outside[-1]
         return None if last + 1 >= t.size else float(t[last + 1])
 
+    def to_pandas(self):
+        """The signals as a :class:`pandas.DataFrame` indexed by time ``t`` [s], one column per
+        signal in SI; ``df.attrs["units"]`` maps each column to its unit and
+        ``df.attrs["method"]`` says how the run was solved. Needs pandas (``pip install
+        "beltcalc[data]"``)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            from beltcalc.errors import InputError
+
+            raise InputError('SimResult.to_pandas needs pandas: pip install "beltcalc[data]"') from None
+        df = pd.DataFrame({name: np.asarray(v) for name, v in self.signals.items()},
+                          index=pd.Index(self.t, name="t"))
+        df.attrs["units"] = dict(self.units)
+        df.attrs["method"] = self.reason or self.method
+        df.attrs["error_estimate"] = {"value": self.error_estimate, "unit": self.error_unit,
+                                      "signal": self.error_signal}
+        return df
+
     def csv_text(self, names: list[str] | None = None) -> str:
         """CSV with the units in the header (``t_s``, ``omega_3_rad_per_s``, ...)."""
         names = names or list(self.signals)

@@ -1,8 +1,8 @@
 """Rendering of results: rich tables on stdout, JSON, CSV written atomically.
 
-A result is a list of :class:`Row` (SI value, SI unit, display unit), grouped in
-sections. The same rows give the table, the JSON object and the CSV file, so the three
-never disagree.
+A result is a list of :class:`~beltcalc.report.Row` (SI value, SI unit, display unit),
+grouped in sections. The same rows give the table, the JSON object and the CSV file, so
+the three never disagree.
 """
 
 from __future__ import annotations
@@ -13,26 +13,12 @@ import json
 import math
 import os
 import tempfile
-from dataclasses import dataclass
 from pathlib import Path
 from contextlib import contextmanager
 from typing import Callable, Iterable, Iterator, Sequence
 
 from beltcalc.errors import OutputError
-
-
-@dataclass(frozen=True)
-class Row:
-    """One output quantity. ``unit`` is the SI unit of ``value`` as printed in JSON/CSV
-    ("1" for a plain number); ``display`` is the unit of the table (a pint unit string)."""
-
-    key: str
-    label: str
-    value: float
-    unit: str
-    display: str = ""
-    digits: int = 4
-    note: str = ""
+from beltcalc.report import Row
 
 
 def require_matplotlib() -> None:

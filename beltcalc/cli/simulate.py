@@ -15,24 +15,13 @@ from typing import Callable
 import click
 
 from beltcalc.cli.options import OutputPath, SceneParam, catalog_option, output_options, resolve_scene
-from beltcalc.cli.output import (Row, console, display_unit, display_value, format_number, print_table, progress,
+from beltcalc.cli.output import (console, display_unit, display_value, format_number, print_table, progress,
                                  require_matplotlib, table_csv, write_atomic)
+from beltcalc.report import Row, Section
 
 METHOD_NAMES = ["auto", "exact", "radau", "bdf", "lsoda", "odeint", "rk45", "dop853"]
 TIMING = [SceneParam("t_end", "s", "simulated time"), SceneParam("samples", "", "output samples"),
           SceneParam("window", "s", "start of the steady window")]
-
-
-@dataclass(frozen=True)
-class Section:
-    """Rows reported together: ``path`` places them in the JSON (("shafts", "main")),
-    ``group`` prints sections of one group as one table with a row per ``item``."""
-
-    path: tuple[str, ...]
-    title: str
-    rows: list[Row]
-    group: str = ""
-    item: str = ""
 
 
 @dataclass

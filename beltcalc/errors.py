@@ -5,13 +5,18 @@ into one line on stderr and an exit code at one place (``cli/main.py``):
 
 - :class:`InputError`: the inputs are readable but physically impossible (exit 1);
 - :class:`UnknownNameError`: a name that is not in the catalogs (exit 2, a usage error);
+- :class:`UsageError`: text the library cannot read as asked (``NAME=QUANTITY``, a sweep
+  range, an unknown parameter name): exit 2;
 - :class:`CatalogError`: a missing or malformed catalog file (exit 1);
 - :class:`OutputError`: an output file that cannot be written (exit 1);
 - :class:`SimulationError`: a solver failure (exit 1).
 
 An error may name the library parameter it is about (``param``). The library's
 parameter names are the command-line option names with ``_`` for ``-``, so the CLI
-can prefix the message with the option (``--center-distance: ...``).
+can prefix the message with the option (``--center-distance: ...``). An error about a
+value of a scene (``scope="scene"``: a scene file's parameter, or a drive element's
+``ELEMENT.KEY``) names it as it is; the command line maps it to its option (``--set
+rollers: ...``) at its one error boundary.
 """
 
 from __future__ import annotations
@@ -24,13 +29,14 @@ class BeltcalcError(Exception):
 
     exit_code = 1
 
-    def __init__(self, message: str, param: str | None = None):
+    def __init__(self, message: str, param: str | None = None, scope: str | None = None):
         super().__init__(message)
         self.message = message
         self.param = param
+        self.scope = scope      # None: a parameter of a library function; "scene": a scene's value
 
     def __str__(self) -> str:
-        if self.param and self.param.startswith("--"):  # already an option text, e.g. "--set J1"
+        if self.param and self.scope == "scene":
             return f"{self.param}: {self.message}"
         if self.param:
             return f"--{self.param.replace('_', '-')}: {self.message}"
@@ -48,6 +54,14 @@ class UnknownNameError(BeltcalcError, KeyError):
 
     def __str__(self) -> str:  # KeyError would quote the message
         return BeltcalcError.__str__(self)
+
+
+class UsageError(BeltcalcError, ValueError):
+    """Text that cannot be read as asked: ``NAME=QUANTITY`` without a known name or with a
+    wrong unit, a malformed sweep range (a usage error). ``param`` names the input
+    (``set``, ``sweep``)."""
+
+    exit_code = 2
 
 
 class CatalogError(BeltcalcError):

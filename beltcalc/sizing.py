@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Callable, Iterable
+from typing import Callable, Iterable, Mapping
 
 from beltcalc import belt as bm
 from beltcalc.catalogs import BeltProfile, Motor
@@ -18,7 +18,39 @@ from beltcalc.dutycycle import (Drive, Gearbox, Mounting, Regeneration, Segment,
                                 regeneration)
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.motors import Choice, MotorCheck, check_cycle, check_motor, choose_for_cycle, choose_motor
+from beltcalc.params import Param
 from beltcalc.profiles import Trapezoid, move_by_time, scurve, trapezoid
+
+# The parameters of a belt axis and its move, as a scene file (wdu.toml) gives them.
+PARAMS = [
+    Param("belt", None, "Belt profile (gives the substitute belt mass m_TB)."),
+    Param("width", "m", "Belt width (a catalog width)."),
+    Param("center_distance", "m", "Pulley center distance."),
+    Param("mass", "kg", "Moving mass (carriage)."),
+    Param("pulley_teeth", "int", "Teeth of the drive and idler pulleys (d0 = z P / pi)."),
+    Param("pulley_diameter", "m", "Pulley pitch diameter D, instead of the teeth.", required=False),
+    Param("pulley_width", "m", "Pulley body width (for its inertia)."),
+    Param("pulley_bore", "m", "Pulley bore (for its inertia)."),
+    Param("pulley_density", "kg/m^3", "Pulley material density (for its inertia)."),
+    Param("pulley_inertia", "kg*m^2", "Drive pulley inertia J_P1, instead of the computed one.", required=False),
+    Param("idler_inertia", "kg*m^2", "Idler pulley inertia J_P2, instead of the computed one.", required=False),
+    Param("coupling_inertia", "kg*m^2", "Coupling inertia J_C (drive-pulley shaft)."),
+    Param("gearbox_inertia", "kg*m^2", "Gearbox inertia at the motor shaft J_G."),
+    Param("load_inertia", "kg*m^2", "Rotating load on the idler shaft J_RL.", required=False),
+    Param("gear_ratio", "", "Gearbox ratio i = motor speed / pulley speed (1: direct drive)."),
+    Param("belt_ratio", "", "Belt transmission ratio n = D2 / D1."),
+    Param("resistance", "N", "External resistance force F_R against the motion."),
+    Param("guide_friction", "", "Guide friction coefficient (ball 0.002-0.003, roller 0.001-0.002)."),
+    Param("guide_damping", "N*s/m", "Guide viscous damping b_LG."),
+    Param("bearing_damping", "N*m*s/rad", "Viscous damping b_B of each pulley shaft."),
+    Param("motor_efficiency", "", "Motor efficiency (gives b_M = (1 - eta) T_n / omega_n)."),
+    Param("speed", "rad/s|m/s", "Maximum speed: at the motor (3000rpm) or the carriage (2m/s)."),
+    Param("accel", "rad/s^2|m/s^2", "Acceleration: at the motor (500rad/s^2) or the carriage (10m/s^2)."),
+    Param("stroke", "m", "Carriage travel of one move."),
+    Param("dwell", "s", "Standstill after each move."),
+    Param("inertia_ratio_limit", "", "Largest load/motor inertia ratio allowed."),
+    Param("peak_margin", "", "Margin on the peak torque: peak * (1 + margin) <= T_max."),
+]
 
 
 @dataclass(frozen=True)
@@ -57,6 +89,17 @@ class SizingInputs:
     pulley_inertia: float | None = None
     idler_inertia: float | None = None
     load_inertia: float = 0.0
+
+    @classmethod
+    def from_values(cls, values: Mapping[str, object], substitute_mass_model: str = "eq7") -> SizingInputs:
+        """The inputs from the SI values of :data:`PARAMS` (``belt`` and other keys are not
+        read); ``speed`` and ``accel`` are ``(value, unit)`` as :class:`~beltcalc.params.Param`
+        reads them."""
+        fields = {p.name: values[p.name] for p in PARAMS if p.name in values and p.name != "belt"}
+        speed, speed_unit = fields.pop("speed")
+        accel, accel_unit = fields.pop("accel")
+        return cls(**fields, speed=speed, speed_unit=speed_unit, accel=accel, accel_unit=accel_unit,
+                   substitute_mass_model=substitute_mass_model)
 
 
 @dataclass(frozen=True)

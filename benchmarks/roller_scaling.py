@@ -36,14 +36,9 @@ T_END, SAMPLES, TOTAL_LOAD = 6.0, 5001, 120.0
 
 
 def scene(rollers: int):
-    from beltcalc.catalogs import load_scene
-    from beltcalc.cli.options import resolve_scene
-    from beltcalc.cli.simulate import _roller_params
-    from beltcalc.sim.scenes import roller_table
+    from beltcalc.sim.scenes import SCENES, roller_table
 
-    sd = load_scene("roller_table", command="simulate roller-table")
-    values = {k: v.value for k, v in resolve_scene(sd, _roller_params(), {}).items()}
-    values.update(rollers=float(rollers), roller_load=TOTAL_LOAD / rollers)
+    values = SCENES["roller-table"].values(rollers=float(rollers), roller_load=TOTAL_LOAD / rollers)
     return roller_table.build(values)
 
 

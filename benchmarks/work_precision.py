@@ -18,17 +18,9 @@ import argparse  # noqa: E402
 import platform  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from dataclasses import replace  # noqa: E402
-
-from beltcalc.cli import simulate as cli  # noqa: E402
-from beltcalc.sim.workprecision import fastest_at, work_precision  # noqa: E402
-
-SCENES = {
-    "sewing": (cli.SEWING_SCENE, "sewing", {}),
-    "roller-table": (replace(cli.ROLLER_SCENE, params=cli._roller_params()), "roller_table", {}),
-    "linear-axis": (replace(cli.AXIS_SCENE, params=cli._axis_params()), "linear_axis",
-                    {"substitute_mass_model": "eq7"}),
-}
+from beltcalc.sim.scenes import SCENES  # noqa: E402
+from beltcalc.sim.scenes.base import scene_work_precision  # noqa: E402
+from beltcalc.sim.workprecision import fastest_at  # noqa: E402
 
 
 def main() -> None:
@@ -41,12 +33,9 @@ def main() -> None:
 
 
 def run(name: str, folder: Path) -> None:
-    spec, scene, flags = SCENES[name]
-    _, values = cli._values(spec, scene, {})
-    net = spec.build(values, flags)
-    t_end, samples = cli.spec_timing(spec, values, flags)
-    signal = spec.signal
-    rows = work_precision(net, t_end, samples, signal)
+    scene = SCENES[name]
+    wp = scene_work_precision(scene, scene.values())
+    rows, t_end, samples, signal = wp.rows, wp.t_end, wp.samples, wp.signal
     lines = [f"# Work-precision, {name} scene ({samples} samples over {t_end:g} s)", "",
              f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
              f"BLAS single-threaded. Error: max |{signal} - exact| over the run (SI units).", "",

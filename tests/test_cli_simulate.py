@@ -85,11 +85,9 @@ def test_hand_values_of_the_docstring():
 
 
 def test_params_dict_matches_the_scene_file():
-    from beltcalc.catalogs import load_scene
-    from beltcalc.cli.options import resolve_scene
-    from beltcalc.cli.simulate import SEWING
+    from beltcalc.sim.scenes import SCENES
 
-    resolved = resolve_scene(load_scene("sewing"), SEWING, {})
+    _, resolved = SCENES["sewing"].resolve()
     assert set(resolved) == set(PARAMS)
     for key, value in PARAMS.items():
         assert resolved[key].value == pytest.approx(value, rel=1e-12, abs=1e-300), key

@@ -15,12 +15,10 @@ import mpmath
 import numpy as np
 import pytest
 
-from beltcalc.catalogs import load_scene
-from beltcalc.cli.options import resolve_scene
-from beltcalc.cli.simulate import SEWING
 from beltcalc.errors import SimulationError
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.network import Coupling, Inertia, Network
+from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.sewing import build
 
 from mpref import max_difference, reference_mp, to_array
@@ -34,10 +32,7 @@ CFG = SolverConfig(method="exact", error_tol=1e-6, accept_error=False, estimate_
 
 
 def sewing_params(**over):
-    sd = load_scene("sewing", command="simulate sewing")
-    vals = {k: v.value for k, v in resolve_scene(sd, SEWING, {}).items()}
-    vals.update(over)
-    return vals
+    return SCENES["sewing"].values(**over)
 
 
 def speed_rows(net):

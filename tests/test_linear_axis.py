@@ -30,11 +30,9 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from beltcalc.catalogs import load_scene
-from beltcalc.cli.options import resolve_scene
-from beltcalc.cli.simulate import _axis_params, _axis_prepare
 from beltcalc.errors import InputError
 from beltcalc.sim.core import SolverConfig, simulate
+from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes import linear_axis as la
 
 PI = math.pi
@@ -51,13 +49,11 @@ LEVER = 40 * 0.010 / PI / 2 / 20              # 3.1830989e-3 m/rad
 
 def wdu_values(**changes) -> dict:
     """The scene's values in SI, as ``beltcalc simulate linear-axis`` resolves them."""
-    values = {k: v.value for k, v in resolve_scene(load_scene("linear_axis"), _axis_params(), {}).items()}
-    values.update(changes)
-    return values
+    return SCENES["linear-axis"].values(**changes)
 
 
 def wdu_model(mass_model: str = "eq7", **changes) -> la.AxisModel:
-    return _axis_prepare(wdu_values(**changes), {"substitute_mass_model": mass_model})[0]
+    return la.prepare_scene(wdu_values(**changes), substitute_mass_model=mass_model)[0]
 
 
 @pytest.fixture(scope="module")

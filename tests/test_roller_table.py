@@ -22,17 +22,15 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from beltcalc.catalogs import load_scene
 from beltcalc.chain import load_split, placement_factor, sprocket_pitch_diameter, strand_stiffness, torsional_stiffness
-from beltcalc.cli.options import resolve_scene
-from beltcalc.cli.simulate import _roller_params
 from beltcalc.errors import InputError, SimulationError
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.network import Coupling, Load, Network
+from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes import roller_table as rt
 
 # the scene's values in SI, as the command resolves them
-PARAMS = {k: v.value for k, v in resolve_scene(load_scene("roller_table"), _roller_params(), {}).items()}
+PARAMS = SCENES["roller-table"].values()
 EXACT = SolverConfig("exact", estimate_error=False)
 R_SPROCKET = 0.015875 / math.sin(math.pi / 19) / 2      # 48.22455 mm (module docstring)
 

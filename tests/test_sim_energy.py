@@ -12,10 +12,8 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from beltcalc.catalogs import load_scene
-from beltcalc.cli.options import resolve_scene
-from beltcalc.cli.simulate import SEWING
 from beltcalc.sim.core import SolverConfig, augmented_matrix, simulate
+from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.sewing import build
 
 
@@ -39,7 +37,7 @@ def sym(p, i, j, value):
 
 
 def test_energy_balance_sewing_exact():
-    values = {k: v.value for k, v in resolve_scene(load_scene("sewing"), SEWING, {}).items()}
+    values = SCENES["sewing"].values()
     net = build(values)
     t_end, samples = 0.5, 5001
     r = simulate(net, t_end, samples, SolverConfig("exact", estimate_error=False))

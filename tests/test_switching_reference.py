@@ -32,14 +32,9 @@ BOUNDED = SolverConfig("exact", estimate_error=False, max_events=1000)   # the b
 
 def params(**over):
     """The default roller-table scene's parameters (SI), with ``over`` replacing some."""
-    from beltcalc.catalogs import load_scene
-    from beltcalc.cli.options import resolve_scene
-    from beltcalc.cli.simulate import _roller_params
+    from beltcalc.sim.scenes import SCENES
 
-    sd = load_scene("roller_table", command="simulate roller-table")
-    vals = {k: v.value for k, v in resolve_scene(sd, _roller_params(), {}).items()}
-    vals.update(over)
-    return vals
+    return SCENES["roller-table"].values(**over)
 
 
 def switch_times(r):

@@ -4,6 +4,11 @@ Subcommands are imported only when run, so ``beltcalc tension`` never imports sc
 matplotlib. Every :class:`~beltcalc.errors.BeltcalcError` becomes one line on stderr
 and its exit code here (1: physically impossible input, catalog or solver failure;
 2: usage: bad text, wrong unit, unknown name). ``--debug`` shows the traceback instead.
+
+The line names the option that sets the value the error is about: a library parameter
+``center_distance`` is ``--center-distance``; a scene's value (``scope="scene"``) is named
+by the command that resolved the scene (``ctx.meta[SCENE_OPTION]``: ``--set rollers``,
+``--t-end``), by default as any other parameter.
 """
 
 from __future__ import annotations
@@ -22,7 +27,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import click
 
 from beltcalc import __version__
-from beltcalc.errors import BeltcalcError
+from beltcalc.errors import BeltcalcError, UsageError
 
 # name -> "module:attribute"; the module is imported only when the command runs.
 COMMANDS = {
@@ -33,6 +38,24 @@ COMMANDS = {
     "belt-drive": "beltcalc.cli.belt_drive:belt_drive",
     "chain": "beltcalc.cli.chain:chain",
 }
+
+
+SCENE_OPTION = "beltcalc.scene_option"   # ctx.meta key: scene parameter name -> its option text
+
+
+def option_name(name: str) -> str:
+    """The option of a library parameter: ``center_distance`` -> ``--center-distance``."""
+    return "--" + name.replace("_", "-")
+
+
+def error_line(exc: BeltcalcError, meta: dict) -> str:
+    """The one line of a library error, its parameter named as the option that sets it."""
+    if not exc.param:
+        return exc.message
+    to_option = meta.get(SCENE_OPTION, option_name) if exc.scope == "scene" else option_name
+    if isinstance(exc, UsageError):
+        return f"Invalid value for {to_option(exc.param)}: {exc.message}"
+    return f"{to_option(exc.param)}: {exc.message}"
 
 
 class _Failure(click.ClickException):
@@ -60,7 +83,7 @@ class BeltcalcGroup(click.Group):
         except BeltcalcError as exc:
             if ctx.meta.get("beltcalc.debug"):
                 raise
-            raise _Failure(str(exc), exc.exit_code) from None
+            raise _Failure(error_line(exc, ctx.meta), exc.exit_code) from None
         except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort):
             raise
         except Exception as exc:  # a bug: say so in one line, keep the traceback for --debug

@@ -7,41 +7,12 @@ import math
 
 import click
 
-from beltcalc.cli.options import (OutputPath, SceneParam, catalog_option, output_options, quantity_option,
-                                  resolve_scene, scene_options)
+from beltcalc.cli.main import option_name
+from beltcalc.cli.options import OutputPath, catalog_option, output_options, quantity_option, scene_options
 from beltcalc.cli.output import (Row, console, format_number, print_table, progress, require_matplotlib,
                                  table_csv, write_atomic)
 from beltcalc.errors import InputError, UnknownNameError
-
-PARAMS = [
-    SceneParam("belt", None, "Belt profile (gives the substitute belt mass m_TB)."),
-    SceneParam("width", "m", "Belt width (a catalog width)."),
-    SceneParam("center_distance", "m", "Pulley center distance."),
-    SceneParam("mass", "kg", "Moving mass (carriage)."),
-    SceneParam("pulley_teeth", "int", "Teeth of the drive and idler pulleys (d0 = z P / pi)."),
-    SceneParam("pulley_diameter", "m", "Pulley pitch diameter D, instead of the teeth.", required=False),
-    SceneParam("pulley_width", "m", "Pulley body width (for its inertia)."),
-    SceneParam("pulley_bore", "m", "Pulley bore (for its inertia)."),
-    SceneParam("pulley_density", "kg/m^3", "Pulley material density (for its inertia)."),
-    SceneParam("pulley_inertia", "kg*m^2", "Drive pulley inertia J_P1, instead of the computed one.", required=False),
-    SceneParam("idler_inertia", "kg*m^2", "Idler pulley inertia J_P2, instead of the computed one.", required=False),
-    SceneParam("coupling_inertia", "kg*m^2", "Coupling inertia J_C (drive-pulley shaft)."),
-    SceneParam("gearbox_inertia", "kg*m^2", "Gearbox inertia at the motor shaft J_G."),
-    SceneParam("load_inertia", "kg*m^2", "Rotating load on the idler shaft J_RL.", required=False),
-    SceneParam("gear_ratio", "", "Gearbox ratio i = motor speed / pulley speed (1: direct drive)."),
-    SceneParam("belt_ratio", "", "Belt transmission ratio n = D2 / D1."),
-    SceneParam("resistance", "N", "External resistance force F_R against the motion."),
-    SceneParam("guide_friction", "", "Guide friction coefficient (ball 0.002-0.003, roller 0.001-0.002)."),
-    SceneParam("guide_damping", "N*s/m", "Guide viscous damping b_LG."),
-    SceneParam("bearing_damping", "N*m*s/rad", "Viscous damping b_B of each pulley shaft."),
-    SceneParam("motor_efficiency", "", "Motor efficiency (gives b_M = (1 - eta) T_n / omega_n)."),
-    SceneParam("speed", "rad/s|m/s", "Maximum speed: at the motor (3000rpm) or the carriage (2m/s)."),
-    SceneParam("accel", "rad/s^2|m/s^2", "Acceleration: at the motor (500rad/s^2) or the carriage (10m/s^2)."),
-    SceneParam("stroke", "m", "Carriage travel of one move."),
-    SceneParam("dwell", "s", "Standstill after each move."),
-    SceneParam("inertia_ratio_limit", "", "Largest load/motor inertia ratio allowed."),
-    SceneParam("peak_margin", "", "Margin on the peak torque: peak * (1 + margin) <= T_max."),
-]
+from beltcalc.sizing import PARAMS
 
 
 def _sweep_spec(text: str | None):
@@ -132,6 +103,7 @@ def motor_size(scene, substitute_mass_model, jerk, move_time, accel_fraction, je
     resistor (--dc-bus-capacitance with the two voltages).
     """
     from beltcalc.catalogs import load_catalog, load_scene
+    from beltcalc.params import resolve
     from beltcalc.sizing import DutyOptions, SizingInputs, size_axis, size_cycle, sweep
 
     spec = _sweep_spec(sweep_text)
@@ -141,15 +113,11 @@ def motor_size(scene, substitute_mass_model, jerk, move_time, accel_fraction, je
         require_matplotlib()
     cat = load_catalog(catalog_paths)
     scene_def = load_scene(scene, command="motor-size")
-    values = resolve_scene(scene_def, PARAMS, given)
+    values = resolve(scene_def, PARAMS, given)
     belt = cat.belt(values["belt"].value)
     motors = _motor_list(cat, motor_files)
     chosen = cat.motor(motor_name) if motor_name else None
-    fields = {k: v.value for k, v in values.items() if k != "belt"}
-    speed, speed_unit = fields.pop("speed")
-    accel, accel_unit = fields.pop("accel")
-    inp = SizingInputs(**fields, speed=speed, speed_unit=speed_unit, accel=accel, accel_unit=accel_unit,
-                       substitute_mass_model=substitute_mass_model)
+    inp = SizingInputs.from_values({k: v.value for k, v in values.items()}, substitute_mass_model)
 
     if spec is not None:
         sizing = size_axis(inp, belt, motors, chosen)
@@ -391,7 +359,7 @@ def _print(s, sections, values, title) -> None:
         out.print("the stroke is too short to reach the speed: triangular profile", markup=False)
     for a in s.assumptions:
         out.print(f"assumed: {a}", markup=False, highlight=False)
-    given = [f"{k}={v.text}" for k, v in values.items() if v.origin.startswith("option")]
+    given = [f"{k}={v.text}" for k, v in values.items() if v.given]
     out.print("inputs: scene values (--json lists each with its reason)"
               + (f"; given: {', '.join(given)}" if given else ""), markup=False, highlight=False)
 
@@ -445,7 +413,8 @@ def _json(s, rows, values) -> str:
                                   "limit": _q(c.limit, c.unit), "ok": c.ok} for c in s.gearbox_checks]}
     obj["assumptions"] = list(s.assumptions)
     obj["warnings"] = list(s.warnings)
-    obj["inputs"] = {k: {"text": v.text, "origin": v.origin} for k, v in values.items()}
+    obj["inputs"] = {k: {"text": v.text, "origin": f"option {option_name(k)}" if v.given else v.origin}
+                     for k, v in values.items()}
     return json.dumps(obj, indent=2, allow_nan=False)
 
 

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from pathlib import Path
 
 import click
 
+from beltcalc.cli.main import option_name
 from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
 
 
@@ -84,24 +84,9 @@ def output_options(func):
 
 # --- scene parameters: one option per parameter, the scene file supplies the defaults ------
 
-@dataclass(frozen=True)
-class SceneParam:
-    """A parameter of a scene-driven command. ``unit``: SI unit (``""`` a plain number,
-    ``"a|b"`` either dimension), ``"int"`` a whole number, or ``None`` a name (text).
-    ``required``: the scene (or the option) must give it."""
-
-    name: str
-    unit: str | None
-    help: str
-    required: bool = True
-
-    @property
-    def option(self) -> str:
-        return "--" + self.name.replace("_", "-")
-
-
-def scene_options(params: list[SceneParam]):
-    """Add one ``--name`` option per parameter, default None (= take it from the scene)."""
+def scene_options(params):
+    """Add one ``--name`` option per :class:`~beltcalc.params.Param`, default None (= take it
+    from the scene)."""
     def decorate(func):
         for p in reversed(params):
             if p.unit == "int":
@@ -111,63 +96,6 @@ def scene_options(params: list[SceneParam]):
             else:
                 kind = QuantityParam(p.unit)
             suffix = " [default: from the scene]" if p.required else ""
-            func = click.option(p.option, p.name, type=kind, default=None, help=p.help + suffix)(func)
+            func = click.option(option_name(p.name), p.name, type=kind, default=None, help=p.help + suffix)(func)
         return func
     return decorate
-
-
-@dataclass(frozen=True)
-class Resolved:
-    """A parameter's value (SI float, ``(float, unit)``, int or text), its text and origin."""
-
-    value: object
-    text: str
-    origin: str
-
-
-def resolve_scene(scene, params: list[SceneParam], given: dict) -> dict[str, Resolved]:
-    """Each parameter from its option if given, else from the scene file (converted here).
-
-    A scene value that cannot be read, or a required one that is missing, is a
-    :class:`~beltcalc.errors.CatalogError` naming the scene file and the key.
-    """
-    from beltcalc.errors import CatalogError
-
-    known = {p.name for p in params}
-    for key in scene.values:
-        if key not in known:
-            raise CatalogError(f"{scene.source.path}: parameters.{key}: not a parameter of this command "
-                               f"(known: {', '.join(sorted(known))})")
-    out = {}
-    for p in params:
-        if given.get(p.name) is not None:
-            value = given[p.name]
-            out[p.name] = Resolved(value, _as_text(value, p), f"option {p.option}")
-            continue
-        if p.name not in scene.values:
-            if p.required:
-                raise CatalogError(f"{scene.source.path}: parameters.{p.name}: missing "
-                                   f"(or give {p.option})")
-            continue
-        text, why = scene.values[p.name]
-        try:
-            if p.unit == "int":
-                value = int(text)
-            elif p.unit is None:
-                value = text
-            elif "|" in p.unit:
-                value = parse_quantity_any(text, tuple(p.unit.split("|")))
-            else:
-                value = parse_quantity(text, p.unit)
-        except (QuantityError, ValueError) as exc:
-            raise CatalogError(f"{scene.source.path}: parameters.{p.name}: {exc}") from None
-        out[p.name] = Resolved(value, text, f"scene: {why}")
-    return out
-
-
-def _as_text(value, p: SceneParam) -> str:
-    if isinstance(value, tuple):
-        return f"{value[0]:g} {value[1]}"
-    if isinstance(value, float):
-        return f"{value:g} {p.unit}".strip()
-    return str(value)

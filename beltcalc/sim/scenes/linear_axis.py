@@ -7,6 +7,10 @@ motion profile exactly (an ideal servo, ``prescribed``) or is driven by the rigi
 feed-forward torque of ``motor-size`` plus a proportional speed loop (``speed-loop``).
 SI floats only.
 
+The scene ``simulate linear-axis`` (``catalogs/scenes/linear_axis.toml``, over the
+motor-size scene ``wdu``) reports the belt force against the pretension, the carriage's
+following error and residual vibration, and the motor torque against the rigid answer.
+
 Belt force: F = k_TB (r phi / i - x) + b_TB (r omega / i - v), r = D / 2, positive when the
 belt pulls the carriage forward. The carriage runs in +x.
 """
@@ -14,17 +18,35 @@ belt pulls the carriage forward. The carriage runs in +x.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Iterable
 
 import numpy as np
 
 from beltcalc.drive import BeltAxis, Duty
 from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.params import Param
 from beltcalc.profiles import Trapezoid
+from beltcalc.report import Row, Section
 from beltcalc.sim.network import Coupling, Inertia, Load, Network, Prescribed, SpeedLoop
+from beltcalc.sim.scenes.base import Outcome, Scene, scene_values
+from beltcalc.sizing import PARAMS as AXIS_PARAMS
 
 DRIVES = ("prescribed", "speed-loop")
 BELT_MODELS = ("substitute", "chain")
+PARAMS = AXIS_PARAMS + [
+    Param("thread", None, "Tensioner bolt thread (for the pretension, as `beltcalc tension`)."),
+    Param("tension_accel", "m/s^2", "Acceleration of the tensioning motion."),
+    Param("tension_speed", "m/s", "Speed of the tensioning motion."),
+    Param("mu", "", "Thread friction coefficient."),
+    Param("damping", "N*s/m", "Belt damping b_TB, instead of the catalog's.", required=False),
+    Param("drive", None, "prescribed (ideal servo) or speed-loop (feed-forward + speed_gain)."),
+    Param("speed_gain", "N*m*s/rad", "Proportional speed-loop gain."),
+    Param("belt_model", None, "substitute (eq. 5-9) or chain (eq. 1, z - 1 units)."),
+    Param("after_move", "s", "Simulated time after the move."),
+    Param("step", "s", "Output step."),
+    Param("settle_band", "m", "Following-error band for the settling time."),
+]
 
 
 @dataclass(frozen=True)
@@ -70,14 +92,16 @@ class AxisModel:
         return max(1, int(math.floor(self.teeth - 1 + 1e-9)))
 
     def check(self) -> None:
-        if self.drive not in DRIVES:
-            raise InputError(f"{self.drive!r} is not a drive; use one of {', '.join(DRIVES)}", param="--set drive")
-        if self.belt_model not in BELT_MODELS:
-            raise InputError(f"{self.belt_model!r} is not a belt model; use one of {', '.join(BELT_MODELS)}",
-                             param="--set belt_model")
-        require_positive("--set stiffness", self.stiffness, "N/m")
-        require_range("--set damping", self.damping, "N*s/m", low=0.0)
-        require_range("--set speed_gain", self.speed_gain, "N*m*s/rad", low=0.0)
+        """Refuse a drive or belt model that does not exist, and negative stiffness, damping or gain."""
+        with scene_values(("drive", "belt_model", "damping", "speed_gain")):
+            if self.drive not in DRIVES:
+                raise InputError(f"{self.drive!r} is not a drive; use one of {', '.join(DRIVES)}", param="drive")
+            if self.belt_model not in BELT_MODELS:
+                raise InputError(f"{self.belt_model!r} is not a belt model; use one of {', '.join(BELT_MODELS)}",
+                                 param="belt_model")
+            require_positive("stiffness", self.stiffness, "N/m")
+            require_range("damping", self.damping, "N*s/m", low=0.0)
+            require_range("speed_gain", self.speed_gain, "N*m*s/rad", low=0.0)
 
 
 def reference_tables(model: AxisModel) -> tuple[tuple, tuple, tuple]:
@@ -203,16 +227,13 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     :class:`beltcalc.tension.TensionInputs` (its mass, width, centre distance and pulley
     diameter are taken from the axis). Returns (AxisModel, Sizing, TensionReport).
     """
-    from dataclasses import replace
-
     from beltcalc.drive import motor_damping
     from beltcalc.sizing import size_axis
     from beltcalc.tension import design_tension
 
     sizing = size_axis(inp, belt, motors, motor)
     if sizing.shown is None:
-        raise InputError(f"no motor fits ({sizing.choice.reason}); name one with --motor to simulate anyway",
-                         param="motor")
+        raise InputError(f"no motor fits ({sizing.choice.reason}); name one to simulate anyway", param="motor")
     check = sizing.shown
     accel = sizing.profile.accel * sizing.axis.carriage_per_motor()
     tin = replace(tension_inputs, center_distance=inp.center_distance, width=inp.width, mass=inp.mass,
@@ -228,3 +249,142 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     )
     model.check()
     return model, sizing, report
+
+
+def prepare_scene(values: dict, substitute_mass_model: str = "eq7", motor: str | None = None,
+                  catalog: Iterable[str] = ()):
+    """:func:`prepare` from the scene's SI ``values`` (:data:`PARAMS`): the belt, thread and
+    ``motor`` (default: motor-size's choice) from the built-in catalogs plus the files
+    ``catalog``; m_TB by ``substitute_mass_model`` (``eq7`` or ``rayleigh``).
+    Returns (AxisModel, Sizing, TensionReport)."""
+    from beltcalc.catalogs import load_catalog
+    from beltcalc.sizing import SizingInputs
+    from beltcalc.tension import TensionInputs
+
+    cat = load_catalog(catalog)
+    inp = SizingInputs.from_values(values, substitute_mass_model)
+    tin = TensionInputs(center_distance=inp.center_distance, width=inp.width, mass=inp.mass, accel=1.0,
+                        tension_accel=values["tension_accel"], tension_speed=values["tension_speed"],
+                        mu=values["mu"], pulley_diameter=1.0, damping=values.get("damping"))
+    return prepare(inp, cat.belt(values["belt"]), list(cat.motors.values()), cat.motor(motor) if motor else None,
+                   tin, cat.thread(values["thread"]), values["drive"], values["speed_gain"], values["belt_model"])
+
+
+def timing(values: dict, model: AxisModel) -> tuple[float, int]:
+    """(t_end, samples) of a run: the move, then ``after_move``, sampled every ``step``."""
+    require_positive("after_move", values["after_move"], "s")
+    require_positive("step", values["step"], "s")
+    t_end = move_time(model) + values["after_move"]
+    samples = int(round(t_end / values["step"])) + 1
+    if samples > 10_000_000:
+        raise InputError(f"{samples} samples; at most 10,000,000: raise the step", param="step")
+    return t_end, samples
+
+
+def scene_timing(values: dict, **options) -> tuple[float, int]:
+    """:func:`timing` of the model the scene's values prepare (``options`` as :func:`prepare_scene`)."""
+    return timing(values, prepare_scene(values, **options)[0])
+
+
+def span_rows(model: AxisModel, values: dict) -> list[Row]:
+    """First natural frequency with both belt paths counted, k = C_spec / L1 + C_spec / L2,
+    the carriage at the start, middle and end of a stroke centred on the span."""
+    a, stroke = values["center_distance"], values["stroke"]
+    if model.belt_model != "substitute" or stroke >= a:
+        return []
+    c_spec = model.stiffness * a                       # k_TB = C_spec / a
+    rows = []
+    for key, label, where in (("start", "start", (a - stroke) / 2), ("mid", "middle", a / 2),
+                              ("end", "end", (a + stroke) / 2)):
+        k = span_stiffness(c_spec, a, model.axis.pulley_diameter, where)
+        f = first_frequency(build(replace(model, stiffness=k)))
+        if f is None:
+            continue
+        rows.append(Row(f"first_frequency_spans_{key}", f"  with both spans, carriage at the {label}", f, "Hz",
+                        note=f"k = {k / model.stiffness:.2f} k_TB"))
+    return rows
+
+
+def build_scene(values: dict, **options) -> Network:
+    """The network of the scene's values (``options`` as :func:`prepare_scene`)."""
+    return build(prepare_scene(values, **options)[0])
+
+
+def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None = None,
+        catalog: Iterable[str] = ()) -> Outcome:
+    """One run (``options`` as :func:`prepare_scene`): the belt force against the pretension
+    and the first natural frequencies, the carriage's following error, residual vibration and
+    settling time, the motor's peak and RMS torque against motor-size's rigid answer."""
+    from beltcalc.sim.core import simulate
+
+    model, sizing, report = prepare_scene(values, substitute_mass_model, motor, catalog)
+    net = build(model)
+    t_end, samples = timing(values, model)
+    result = simulate(net, t_end, samples, cfg)
+    t_move = move_time(model)
+    force = belt_force(model, result["T_belt"])
+    result.signals["F_belt"], result.units["F_belt"] = force, "N"
+    error = result["x_carriage"] - reference_position(model, result.t)
+    result.signals["following_error"], result.units["following_error"] = error, "m"
+    torque = result["T_drive_motor"]
+    during = result.window(0.0, t_move)
+    after = result.window(t_move)
+    final = float(error[-max(2, samples // 20):].mean())
+    settle = result.settle_time("following_error", final, values["settle_band"], t_move)
+    residual = 0.5 * float(error[after].max() - error[after].min())
+    pretension = report.tension_peak
+    worst = float(np.abs(force).max())
+    duty = model.duty
+    cycle_time = sizing.profile.cycle_time
+    cycle = result.window(0.0, cycle_time)
+    rms = (float(np.sqrt(np.trapezoid(torque[cycle] ** 2, result.t[cycle]) / cycle_time))
+           if t_end >= cycle_time - 1e-12 else None)
+    f1 = first_frequency(net)
+    sections = [
+        Section(("belt",), "belt", [
+            Row("force_max", "belt force, max", float(force.max()), "N"),
+            Row("force_min", "belt force, min", float(force.min()), "N"),
+            Row("pretension", "pretension F_t,peak (beltcalc tension)", pretension, "N"),
+            Row("pretension_margin", "pretension - max |force|", pretension - worst, "N",
+                note="< 0: the slack span goes slack (the paper's eq. 10-11 criterion)"),
+            Row("stiffness", "k_TB = C_spec / a", model.stiffness, "N/m"),
+            Row("damping", "b_TB", model.damping, "N*s/m"),
+            Row("first_frequency", "first natural frequency", f1, "Hz"),
+        ] + span_rows(model, values)),
+        Section(("carriage",), "carriage", [
+            Row("following_error_max", "following error, max during the move",
+                float(np.abs(error[during]).max()), "m", "mm"),
+            Row("residual_amplitude", "residual vibration after the move, amplitude", residual, "m", "mm"),
+            Row("settling_time", f"settling time after the move (band {values['settle_band'] * 1e3:g} mm)",
+                settle - t_move if settle is not None else None, "s"),
+        ]),
+        Section(("motor",), f"motor {sizing.shown.motor.name}", [
+            Row("torque_peak", "torque, peak (dynamic)", float(np.abs(torque).max()), "N m"),
+            Row("torque_peak_rigid", "torque, peak (motor-size, rigid)", duty.peak_torque, "N m"),
+            Row("torque_rms", "torque, RMS over the cycle (dynamic)", rms, "N m"),
+            Row("torque_rms_rigid", "torque, RMS (motor-size, rigid)", duty.rms_torque, "N m"),
+            Row("speed_max", "speed, max", float(np.abs(result["omega_motor"]).max()), "rad/s", "rpm"),
+        ]),
+    ]
+    notes = [f"drive: {model.drive}; belt: {model.belt_model}"
+             + (f" (eq. 1, {model.chain_units} units)" if model.belt_model == "chain" else
+                f" (m_TB = {model.axis.substitute_mass * 1e3:.4g} g by {substitute_mass_model})")]
+    if rms is None:
+        notes.append("the run ends before the cycle (move + dwell): no RMS; raise after_move")
+    if settle is None:
+        notes.append("the carriage has not settled by the end of the run: raise after_move")
+    if pretension < worst:
+        notes.append(f"the belt force reaches {worst:.0f} N, above the pretension {pretension:.0f} N: "
+                     "the slack span goes slack")
+    return Outcome(net, result, sections, notes)
+
+
+SCENE = Scene(
+    "linear-axis", "linear_axis", PARAMS, build_scene, run, "v_carriage", "speed_gain=0.05:0.5:10",
+    ("belt_force_max_N", "belt_pretension_margin_N", "carriage_following_error_max_m",
+     "carriage_residual_amplitude_m", "motor_torque_peak_N_m"),
+    (("belt force [N]", (("F_belt", "belt"),)),
+     ("following error [m]", (("following_error", "carriage"),)),
+     ("motor torque [N m]", (("T_drive_motor", "motor"),))),
+    timing=scene_timing,
+)

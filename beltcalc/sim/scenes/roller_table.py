@@ -14,6 +14,10 @@ Routing (``routing``):
 
 Every strand is pretensioned by ``pretension`` [N]. A strand's mass is split between the
 two sprockets it joins (as inertia m L / 2 r^2).
+
+The scene ``simulate roller-table`` (``catalogs/scenes/roller_table.toml``) reports per
+roller its speed and end torques, per strand its force extremes, time slack and safety,
+and the motor's torque and start-up time.
 """
 
 from __future__ import annotations
@@ -23,7 +27,10 @@ import math
 from beltcalc.chain import load_split, placement_factor, sprocket_pitch_diameter, strand_stiffness, torsional_stiffness
 from beltcalc.drive import cylinder_inertia
 from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.params import Param
+from beltcalc.report import Row, Section
 from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network, Strand, series_stiffness
+from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values
 
 ROUTINGS = ("serpentine", "loops")
 POSITIVE = {
@@ -42,34 +49,35 @@ NONNEGATIVE = {
     "idler_inertia": "kg*m^2", "load_amplitude": "N*m", "load_frequency": "rad/s",
     "load_start": "s", "element_offset": "m",
 }
-
-
-def _name(key: str) -> str:
-    return f"--set {key}"
+PLAIN = ("rollers", "drive_teeth", "roller_teeth", "idler_teeth", "pole_pairs", "breakdown_slip", "settle_tolerance")
+PARAMS = [Param(k, u, k.replace("_", " "))
+          for k, u in {**POSITIVE, **NONNEGATIVE, **ANY_SIGN, **{k: "" for k in PLAIN}, "routing": None}.items()]
+PARAMS += TIMING
 
 
 def check(p: dict) -> None:
-    """Refuse parameter values that make no physical sense, naming them as ``--set NAME``."""
-    for key, unit in POSITIVE.items():
-        require_positive(_name(key), p[key], unit)
-    for key, unit in NONNEGATIVE.items():
-        require_range(_name(key), p[key], unit, low=0.0)
-    rollers = p["rollers"]
-    if rollers != int(rollers) or not 1 <= rollers <= 200:
-        raise InputError(f"{rollers:g} rollers is not allowed; it must be a whole number 1..200", param=_name("rollers"))
-    for key in ("drive_teeth", "roller_teeth", "idler_teeth", "pole_pairs"):
-        low = 1 if key == "pole_pairs" else 3
-        if p[key] != int(p[key]) or p[key] < low:
-            raise InputError(f"{p[key]:g} is not allowed; it must be a whole number >= {low}", param=_name(key))
-    if p["routing"] not in ROUTINGS:
-        raise InputError(f"{p['routing']!r} is not a routing; use one of {', '.join(ROUTINGS)}", param=_name("routing"))
-    require_range(_name("breakdown_slip"), p["breakdown_slip"], "", 0.0, 1.0, low_open=True, high_open=True)
-    require_range(_name("roller_wall"), p["roller_wall"], "m", 0.0, p["roller_diameter"] / 2, low_open=True,
-                  high_open=True)
-    require_range(_name("element_width"), p["element_width"], "m", 0.0, p["roller_length"], low_open=True)
-    require_range(_name("roller_load"), p["roller_load"], "N*m")     # negative: the element overruns
-    require_range(_name("element_offset"), p["element_offset"], "m", 0.0,
-                  p["roller_length"] - p["element_width"] + 1e-9 * p["roller_length"])
+    """Refuse parameter values that make no physical sense (errors name the parameter, ``scope="scene"``)."""
+    with scene_values(p):
+        for key, unit in POSITIVE.items():
+            require_positive(key, p[key], unit)
+        for key, unit in NONNEGATIVE.items():
+            require_range(key, p[key], unit, low=0.0)
+        rollers = p["rollers"]
+        if rollers != int(rollers) or not 1 <= rollers <= 200:
+            raise InputError(f"{rollers:g} rollers is not allowed; it must be a whole number 1..200", param="rollers")
+        for key in ("drive_teeth", "roller_teeth", "idler_teeth", "pole_pairs"):
+            low = 1 if key == "pole_pairs" else 3
+            if p[key] != int(p[key]) or p[key] < low:
+                raise InputError(f"{p[key]:g} is not allowed; it must be a whole number >= {low}", param=key)
+        if p["routing"] not in ROUTINGS:
+            raise InputError(f"{p['routing']!r} is not a routing; use one of {', '.join(ROUTINGS)}", param="routing")
+        require_range("breakdown_slip", p["breakdown_slip"], "", 0.0, 1.0, low_open=True, high_open=True)
+        require_range("roller_wall", p["roller_wall"], "m", 0.0, p["roller_diameter"] / 2, low_open=True,
+                      high_open=True)
+        require_range("element_width", p["element_width"], "m", 0.0, p["roller_length"], low_open=True)
+        require_range("roller_load", p["roller_load"], "N*m")     # negative: the element overruns
+        require_range("element_offset", p["element_offset"], "m", 0.0,
+                      p["roller_length"] - p["element_width"] + 1e-9 * p["roller_length"])
 
 
 def synchronous_speed(p: dict) -> float:
@@ -198,3 +206,75 @@ def build(p: dict) -> Network:
     motor = InductionMotor("motor", p["breakdown_factor"] * p["rated_torque"], p["breakdown_slip"], w0,
                            2 * math.pi * p["supply_frequency"], sync_table=((0.0, 0.0), (p["ramp_time"], w0)))
     return Network(nodes, couplings, loads, motor, strands=chain)
+
+
+def run(values: dict, cfg) -> Outcome:
+    """One run: per roller the speed and the torques at both ends over t >= ``window``, per
+    strand its force extremes, time slack and safety over the whole run, the motor's torque
+    and the start-up time (roller 1 within ``settle_tolerance`` of its speed before the load)."""
+    from beltcalc.sim.core import simulate
+
+    samples = check_timing(values)
+    net = build(values)
+    w0, n = values["window"], int(values["rollers"])
+    watched = [f"{kind}{k}" for k in range(1, n + 1) for kind in ("omega_end", "T_shaft", "T_tube")]
+    watched = [w + "a" if w.startswith("omega_end") else w for w in watched]
+    watched += ["omega_motor", "M_motor"] + [f"F_{s.name}" for s in net.strands]
+    result = simulate(net, values["t_end"], samples, cfg, watch=(watched, (0.0, w0)))
+    sections = []
+    for k in range(1, n + 1):
+        speed = result.summary(f"omega_end{k}a", w0)
+        ta, tb = result.summary(f"T_shaft{k}", w0), result.summary(f"T_tube{k}", w0)
+        sections.append(Section(("rollers", str(k)), f"roller {k}", [
+            Row("speed_mean", "speed mean", speed.mean, "rad/s", digits=5),
+            Row("speed_amplitude", "speed ampl.", speed.amplitude, "rad/s"),
+            Row("torque_drive_end_mean", "torque drive end mean", ta.mean, "N m"),
+            Row("torque_drive_end_amplitude", "ampl.", ta.amplitude, "N m"),
+            Row("torque_far_end_mean", "torque far end mean", tb.mean, "N m"),
+            Row("torque_far_end_amplitude", "ampl.", tb.amplitude, "N m"),
+        ], group=f"rollers, t >= {w0:g} s (torque into the drive end through the journal, and along the tube "
+                 "to the far end)", item=str(k)))
+    slack = result.extra.get("slack_time", {})
+    for s in net.strands:
+        force = result.summary(f"F_{s.name}", 0.0)
+        sections.append(Section(("strands", s.name), s.name, [
+            Row("force_min", "force min", force.min, "N"),
+            Row("force_max", "force max", force.max, "N"),
+            Row("slack_time", "time slack", float(slack.get(s.name, 0.0)), "s"),
+            Row("safety", "breaking load / max", values["chain_breaking_load"] / max(force.max, 1e-300), "1",
+                digits=3),
+        ], group="chain strands, whole run (tension only; slack = no force)", item=s.name))
+    speed, torque = result.summary("omega_motor", w0), result.summary("M_motor", w0)
+    whole = result.summary("M_motor", 0.0)
+    peak = max(abs(whole.min), abs(whole.max))
+    start = values["load_start"] if values["load_start"] > 0 else values["t_end"]
+    target = result.summary("omega_end1a", 0.9 * start, start).mean
+    settle = result.settle_time("omega_end1a", target, values["settle_tolerance"] * abs(target), 0.0, start)
+    sections.append(Section(("motor",), f"motor, t >= {w0:g} s", [
+        Row("speed_mean", "speed, mean", speed.mean, "rad/s", "rpm", digits=5),
+        Row("torque_mean", "torque, mean", torque.mean, "N m"),
+        Row("torque_amplitude", "torque, amplitude", torque.amplitude, "N m"),
+        Row("torque_peak", "torque, peak over the run", peak, "N m"),
+        Row("startup_time", "start-up time", settle, "s",
+            note=f"roller 1 within {values['settle_tolerance']:.0%} of its speed before the load"),
+        Row("steady_speed_rollers", "roller speed, static balance", steady_speed(values), "rad/s", digits=5),
+    ]))
+    notes = []
+    if settle is None:
+        notes.append("the rollers did not settle before the load lands: raise load_start or t_end")
+    breakdown = values["breakdown_factor"] * values["rated_torque"]
+    if abs(torque.mean) > breakdown:
+        notes.append(f"the motor's mean torque {torque.mean:.3g} N m exceeds its breakdown torque {breakdown:.3g} N m: "
+                     "the linearised characteristic does not hold there, and a real motor would stall; "
+                     "choose a larger motor or gear ratio")
+    return Outcome(net, result, sections, notes)
+
+
+SCENE = Scene(
+    "roller-table", "roller_table", PARAMS, build, run, "omega_end1a", "pretension=0N:600N:7",
+    ("motor_torque_peak_N_m", "motor_speed_mean_rad_per_s", "drive-sprocket1_force_max_N",
+     "sprocket3-drive_slack_time_s", "motor_startup_time_s"),
+    (("speed [rad/s]", (("omega_end1a", "roller 1"), ("omega_end2a", "roller 2"), ("omega_end3a", "roller 3"))),
+     ("motor torque [N m]", (("M_motor", "motor"),)),
+     ("strand force [N]", (("F_drive-sprocket1", "drive to roller 1"), ("F_sprocket3-drive", "return")))),
+)

@@ -1,37 +1,57 @@
 """The sewing-machine drive of Mamatova et al. (2016) as a network: five inertias, four
 spring-damper couplings with ratios, an induction motor on shaft 1, technological loads on
-the main shaft (3) and the bottom shaft (5). SI floats only."""
+the main shaft (3) and the bottom shaft (5); and the scene ``simulate sewing``: its
+parameters (``catalogs/scenes/sewing.toml``) and its report, the speed, acceleration and
+transmitted torque of the main and bottom shafts over a steady window. SI floats only."""
 
 from __future__ import annotations
 
 import math
 
 from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.params import Param
+from beltcalc.report import Row, Section
 from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network
+from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values
 
 NODES = ("1", "2", "3", "4", "5")
 NAMES = {"1": "motor", "2": "driven-pulley rim", "3": "main shaft", "4": "toothed-pulley rim", "5": "bottom shaft"}
+SHAFTS = {"main": ("3", "T_23"), "bottom": ("5", "T_45")}   # reported shaft: (node, torque it receives)
+
+PARAMS = [Param(f"J{k}", "kg*m^2", f"inertia J{k}") for k in range(1, 6)]
+PARAMS += [Param(f"C{k}", "N*m/rad", f"stiffness C{k}") for k in range(1, 5)]
+PARAMS += [Param(f"d{k}", "N*m*s/rad", f"damping d{k}") for k in range(1, 5)]
+PARAMS += [Param(name, "", f"ratio {name}") for name in ("U12", "U23", "U34", "U45")]
+PARAMS += [
+    Param("M3_amp", "N*m", "load amplitude on the main shaft"),
+    Param("M3_0", "N*m", "mean load on the main shaft"),
+    Param("M5_amp", "N*m", "load amplitude on the bottom shaft"),
+    Param("M5_0", "N*m", "mean load on the bottom shaft"),
+    Param("rated_torque", "N*m", "motor rated torque"),
+    Param("breakdown_factor", "", "breakdown torque / rated torque"),
+    Param("breakdown_slip", "", "breakdown slip"),
+    Param("supply_frequency", "Hz", "supply frequency"),
+    Param("pole_pairs", "", "motor pole pairs"),
+    Param("load_frequency", "rad/s", "load frequency (0: the steady main-shaft speed)"),
+] + TIMING
 
 
 def check(p: dict) -> None:
-    """Refuse parameter values that make no physical sense, naming them as ``--set NAME``."""
-    def name(key):
-        return f"--set {key}"
-
-    for k in range(1, 6):
-        require_positive(name(f"J{k}"), p[f"J{k}"], "kg*m^2")
-    for k in range(1, 5):
-        require_range(name(f"C{k}"), p[f"C{k}"], "N*m/rad", low=0.0)
-        require_range(name(f"d{k}"), p[f"d{k}"], "N*m*s/rad", low=0.0)
-    for key in ("U12", "U23", "U34", "U45", "breakdown_factor"):
-        require_positive(name(key), p[key], "")
-    require_positive(name("rated_torque"), p["rated_torque"], "N*m")
-    require_positive(name("supply_frequency"), p["supply_frequency"], "Hz")
-    require_range(name("breakdown_slip"), p["breakdown_slip"], "", 0.0, 1.0, low_open=True)
-    require_range(name("load_frequency"), p["load_frequency"], "rad/s", low=0.0)
-    if p["pole_pairs"] < 1 or p["pole_pairs"] != int(p["pole_pairs"]):
-        raise InputError(f"{p['pole_pairs']:g} is not allowed; it must be a whole number >= 1",
-                         param=name("pole_pairs"))
+    """Refuse parameter values that make no physical sense (errors name the parameter, ``scope="scene"``)."""
+    with scene_values(p):
+        for k in range(1, 6):
+            require_positive(f"J{k}", p[f"J{k}"], "kg*m^2")
+        for k in range(1, 5):
+            require_range(f"C{k}", p[f"C{k}"], "N*m/rad", low=0.0)
+            require_range(f"d{k}", p[f"d{k}"], "N*m*s/rad", low=0.0)
+        for key in ("U12", "U23", "U34", "U45", "breakdown_factor"):
+            require_positive(key, p[key], "")
+        require_positive("rated_torque", p["rated_torque"], "N*m")
+        require_positive("supply_frequency", p["supply_frequency"], "Hz")
+        require_range("breakdown_slip", p["breakdown_slip"], "", 0.0, 1.0, low_open=True)
+        require_range("load_frequency", p["load_frequency"], "rad/s", low=0.0)
+        if p["pole_pairs"] < 1 or p["pole_pairs"] != int(p["pole_pairs"]):
+            raise InputError(f"{p['pole_pairs']:g} is not allowed; it must be a whole number >= 1", param="pole_pairs")
 
 
 def steady_speed(p: dict) -> float:
@@ -75,3 +95,42 @@ def build(p: dict, angle_loads: bool = False) -> Network:
                            2 * math.pi * p["supply_frequency"] / p["pole_pairs"],
                            2 * math.pi * p["supply_frequency"])
     return Network(nodes, couplings, loads, motor)
+
+
+def run(values: dict, cfg, angle_loads: bool = False) -> Outcome:
+    """One run: per shaft (main, bottom) the mean and amplitude of speed, acceleration and
+    transmitted torque over t >= ``window``, and the motor's speed and torque."""
+    from beltcalc.sim.core import simulate
+
+    samples = check_timing(values)
+    net = build(values, angle_loads)
+    result = simulate(net, values["t_end"], samples, cfg)
+    w0 = values["window"]
+    sections = []
+    for name, (node, torque) in SHAFTS.items():
+        speed, accel, tq = (result.summary(s, w0) for s in (f"omega_{node}", f"accel_{node}", torque))
+        sections.append(Section(("shafts", name), f"{name} shaft ({node}), t >= {w0:g} s" if name == "main"
+                                else f"{name} shaft ({node})", [
+            Row("speed_mean", "speed, mean", speed.mean, "rad/s", digits=5),
+            Row("speed_amplitude", "speed, amplitude", speed.amplitude, "rad/s"),
+            Row("accel_amplitude", "acceleration, amplitude", accel.amplitude, "rad/s^2"),
+            Row("torque_mean", "transmitted torque, mean", tq.mean, "N m"),
+            Row("torque_amplitude", "transmitted torque, amplitude", tq.amplitude, "N m"),
+        ]))
+    speed, torque = result.summary("omega_1", w0), result.summary("M_motor", w0)
+    sections.append(Section(("motor",), "motor (1)", [
+        Row("speed_mean", "speed, mean", speed.mean, "rad/s", "rpm", digits=5),
+        Row("torque_mean", "torque, mean", torque.mean, "N m"),
+        Row("torque_amplitude", "torque, amplitude", torque.amplitude, "N m"),
+    ]))
+    return Outcome(net, result, sections)
+
+
+SCENE = Scene(
+    "sewing", "sewing", PARAMS, build, run, "omega_3", "C4=50:310:14",
+    ("main_speed_amplitude_rad_per_s", "main_accel_amplitude_rad_per_s2", "main_torque_amplitude_N_m",
+     "bottom_speed_amplitude_rad_per_s", "bottom_accel_amplitude_rad_per_s2", "bottom_torque_amplitude_N_m"),
+    (("speed [rad/s]", (("omega_3", "main shaft"), ("omega_5", "bottom shaft"))),
+     ("acceleration [rad/s^2]", (("accel_3", "main shaft"), ("accel_5", "bottom shaft"))),
+     ("transmitted torque [N m]", (("T_23", "main shaft"), ("T_45", "bottom shaft")))),
+)

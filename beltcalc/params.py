@@ -1,0 +1,179 @@
+"""Named parameters of a scene: their units, their values from a scene file, and the
+``NAME=QUANTITY`` and ``NAME=START:STOP:N`` texts that change them.
+
+A :class:`Param` says what a value is (an SI quantity, a whole number, a text, or one of
+several dimensions). :func:`resolve` takes each value from what the caller gives, else from
+the scene file (``catalogs/scenes/*.toml``, read by :func:`beltcalc.catalogs.load_scene`),
+converted to SI once, and says where it came from. :func:`parse_assignments` and
+:func:`sweep_points` read the texts a user types; what they cannot read is a
+:class:`~beltcalc.errors.UsageError` naming the input (``set``, ``sweep``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Iterable, Mapping, Sequence
+
+
+@dataclass(frozen=True)
+class Param:
+    """A parameter of a scene. ``unit``: SI unit (``""`` a plain number, ``"a|b"`` either
+    dimension, the value then ``(float, unit)``), ``"int"`` a whole number, or ``None`` a
+    name (text). ``required``: the scene (or the caller) must give it."""
+
+    name: str
+    unit: str | None
+    help: str
+    required: bool = True
+
+    def parse(self, text: str) -> object:
+        """The value of ``text`` in this parameter's unit (SI float, ``(float, unit)``, int or text).
+
+        Raises :class:`~beltcalc.units.QuantityError` or ``ValueError`` when it cannot be read.
+
+        >>> Param("C4", "N*m/rad", "stiffness").parse("0.19 kN*m/rad")
+        190.0
+        """
+        from beltcalc.units import parse_quantity, parse_quantity_any
+
+        if self.unit is None:
+            return text.strip()
+        if self.unit == "int":
+            return int(text)
+        if "|" in self.unit:
+            return parse_quantity_any(text, tuple(self.unit.split("|")))
+        return parse_quantity(text, self.unit)
+
+    def text(self, value: object) -> str:
+        """``value`` as text with its unit (what a report of the inputs shows).
+
+        >>> Param("mass", "kg", "moving mass").text(60.0), Param("speed", "rad/s|m/s", "").text((2.0, "m/s"))
+        ('60 kg', '2 m/s')
+        """
+        if isinstance(value, tuple):
+            return f"{value[0]:g} {value[1]}"
+        if isinstance(value, float):
+            return f"{value:g} {self.unit}".strip()
+        return str(value)
+
+
+@dataclass(frozen=True)
+class Resolved:
+    """A parameter's value (SI float, ``(float, unit)``, int or text), its text and origin:
+    ``"given"`` (by the caller) or ``"scene: <why>"`` (the scene file's reason)."""
+
+    value: object
+    text: str
+    origin: str
+
+    @property
+    def given(self) -> bool:
+        """True when the caller gave the value (not the scene file)."""
+        return self.origin == "given"
+
+
+def resolve(scene, params: Sequence[Param], given: Mapping[str, object] | None = None) -> dict[str, Resolved]:
+    """Each parameter from ``given`` (SI values; None = not given), else from the scene file.
+
+    ``scene`` is a :class:`beltcalc.catalogs.Scene`. A scene value that cannot be read, a
+    key that is no parameter, or a required value that is missing, is a
+    :class:`~beltcalc.errors.CatalogError` naming the scene file and the key (a missing
+    one also names the parameter, ``scope="scene"``: it may be given instead).
+    """
+    from beltcalc.errors import CatalogError
+    from beltcalc.units import QuantityError
+
+    given = given or {}
+    known = {p.name for p in params}
+    for key in scene.values:
+        if key not in known:
+            raise CatalogError(f"{scene.source.path}: parameters.{key}: not a parameter of this scene "
+                               f"(known: {', '.join(sorted(known))})")
+    out = {}
+    for p in params:
+        if given.get(p.name) is not None:
+            out[p.name] = Resolved(given[p.name], p.text(given[p.name]), "given")
+            continue
+        if p.name not in scene.values:
+            if p.required:
+                raise CatalogError(f"{scene.source.path}: parameters.{p.name}: missing", param=p.name,
+                                   scope="scene")
+            continue
+        text, why = scene.values[p.name]
+        try:
+            value = p.parse(text)
+        except (QuantityError, ValueError) as exc:
+            raise CatalogError(f"{scene.source.path}: parameters.{p.name}: {exc}") from None
+        out[p.name] = Resolved(value, text, f"scene: {why}")
+    return out
+
+
+def parse_assignments(params: Sequence[Param], items: Iterable[str]) -> dict[str, object]:
+    """``NAME=QUANTITY`` texts -> {name: value in the parameter's unit}.
+
+    An unknown name or a value that cannot be read is a :class:`~beltcalc.errors.UsageError`
+    (``param="set"``) quoting the text.
+
+    >>> parse_assignments([Param("C4", "N*m/rad", "stiffness")], ["C4=190 N*m/rad"])
+    {'C4': 190.0}
+    >>> parse_assignments([Param("C4", "N*m/rad", "stiffness")], ["C4=190"])
+    Traceback (most recent call last):
+    ...
+    beltcalc.errors.UsageError: --set: 'C4=190': '190' needs a unit, e.g. '190 N*m/rad'
+    """
+    from beltcalc.errors import UsageError
+    from beltcalc.units import QuantityError
+
+    by_name = {p.name: p for p in params}
+    out = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        if not sep or name not in by_name:
+            raise UsageError(f"{item!r}: use NAME=QUANTITY with NAME one of {', '.join(by_name)}", param="set")
+        try:
+            out[name] = by_name[name].parse(text)
+        except (QuantityError, ValueError) as exc:
+            raise UsageError(f"{item!r}: {exc}", param="set") from None
+    return out
+
+
+def sweep_points(params: Sequence[Param], text: str, example: str = "") -> tuple[str, list[float]]:
+    """``NAME=START:STOP:N`` -> (name, N evenly spaced values from START to STOP).
+
+    A bare number is in the parameter's SI unit (``C4=50:310:14``). A text, a parameter of
+    several dimensions, a malformed range or N outside 1..10000 is a
+    :class:`~beltcalc.errors.UsageError` (``param="sweep"``) quoting ``text``; ``example``
+    is shown with the expected form.
+
+    >>> sweep_points([Param("C4", "N*m/rad", "stiffness")], "C4=50:310:3")
+    ('C4', [50.0, 180.0, 310.0])
+    """
+    from beltcalc.errors import UsageError
+    from beltcalc.sizing import linspace
+
+    name, sep, rng = text.partition("=")
+    parts = rng.split(":")
+    if not sep or len(parts) != 3:
+        raise UsageError(f"{text!r}: use NAME=START:STOP:N, e.g. {example}", param="sweep")
+    param = next((p for p in params if p.name == name), None)
+    if param is not None and (param.unit is None or "|" in param.unit):
+        raise UsageError(f"{text!r}: {name} cannot be swept (it is not a single quantity)", param="sweep")
+    unit = "" if param is None or param.unit == "int" else param.unit
+    bounds = []
+    for part in parts[:2]:
+        try:  # a bare number is in the parameter's SI unit
+            part = f"{float(part)!r} {unit}"
+        except ValueError:
+            pass
+        try:
+            value = parse_assignments([replace(param, unit=unit)] if param else params, [f"{name}={part}"])[name]
+        except UsageError as exc:
+            raise UsageError(f"{text!r}: {exc.message.split(': ', 1)[-1]}", param="sweep") from None
+        bounds.append(value)
+    try:
+        n = int(parts[2])
+    except ValueError:
+        raise UsageError(f"{text!r}: N must be a whole number", param="sweep") from None
+    if not 1 <= n <= 10000:
+        raise UsageError(f"{text!r}: N must be 1..10000", param="sweep")
+    return name, linspace(bounds[0], bounds[1], n)

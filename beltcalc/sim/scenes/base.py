@@ -1,0 +1,235 @@
+"""What a scene is, and running one: a single run, a sweep, or every method side by side.
+
+A :class:`Scene` names its parameters (:class:`~beltcalc.params.Param`), where their
+values come from (a scene file, by default ``catalogs/scenes/<file>.toml``), how they
+build a :class:`~beltcalc.sim.network.Network` and how one run is reported (an
+:class:`Outcome`: sections of :class:`~beltcalc.report.Row`). Anything that can say this
+is a scene: the built-in ones (:data:`beltcalc.sim.scenes.SCENES`), or a drive file whose
+parameters are its ``ELEMENT.KEY`` addresses.
+
+:func:`run_scene`, :func:`sweep_scene` and :func:`scene_work_precision` run a scene from SI
+values and a :class:`~beltcalc.sim.core.SolverConfig`. An error about one of the scene's
+values comes out with ``scope="scene"`` and the parameter's name (:func:`scene_values`).
+Nothing here prints, parses options or writes files.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import Callable, Iterable, Iterator, Mapping, Sequence
+
+from beltcalc.errors import BeltcalcError, InputError, require_positive
+from beltcalc.params import Param, Resolved, resolve
+from beltcalc.report import Section
+
+TIMING = [Param("t_end", "s", "simulated time"), Param("samples", "", "output samples"),
+          Param("window", "s", "start of the steady window")]
+
+Panel = tuple[str, tuple[tuple[str, str], ...]]   # (y label, ((signal, legend), ...)): one plot panel
+
+
+@dataclass
+class Outcome:
+    """One run of a scene: the network, the result and what to report."""
+
+    net: object                 # beltcalc.sim.network.Network
+    result: object              # beltcalc.sim.result.SimResult
+    sections: list[Section]
+    notes: list[str] = field(default_factory=list)
+
+    def to_dict(self, title: str, modes: bool = False) -> dict:
+        """The run as one JSON-ready object: the scene's ``title``, how it was solved, every
+        section's rows as ``{key: {"value": SI, "unit": SI unit}}`` placed by its path, the
+        notes, and with ``modes`` the network's natural frequencies and damping ratios."""
+        r = self.result
+        obj = {"scene": title, "method": r.method, "reason": r.reason,
+               "wall_time": {"value": r.wall_time, "unit": "s"}, "steps": r.steps, "rhs_calls": r.rhs_calls,
+               "error_estimate": {"value": r.error_estimate, "unit": r.error_unit},
+               "error_relative": {"value": r.error_relative, "unit": "1"}, "error_signal": r.error_signal,
+               "error_reference": r.error_reference, "warnings": list(r.warnings)}
+        if r.extra.get("slack_time"):
+            obj["events"] = r.extra["events"]
+        for sec in self.sections:
+            node = obj
+            for key in sec.path:
+                node = node.setdefault(key, {})
+            node.update({row.key: {"value": row.value, "unit": row.unit} for row in sec.rows})
+        if modes:
+            obj["modes"] = [{"frequency": {"value": f, "unit": "Hz"}, "damping_ratio": {"value": z, "unit": "1"}}
+                            for f, z in self.net.modes()]
+        if self.notes:
+            obj["notes"] = self.notes
+        return obj
+
+    def columns(self) -> list[tuple[str, float]]:
+        """Every reported value as (``<item or section>_<key>_<unit>``, SI value): a sweep row."""
+        from beltcalc.sim.result import _unit_tag
+
+        cols = []
+        for sec in self.sections:
+            for row in sec.rows:
+                unit = "" if row.unit in ("", "1") else "_" + _unit_tag(row.unit)
+                cols.append((f"{sec.path[-1]}_{row.key}{unit}", row.value))
+        return cols
+
+
+def check_timing(values: Mapping[str, object]) -> int:
+    """Refuse a run that cannot be made: ``t_end``, ``samples``, ``window``. Returns the sample count.
+
+    >>> check_timing({"t_end": 1.0, "samples": 10001.0, "window": 0.5})
+    10001
+    """
+    require_positive("t_end", values["t_end"], "s")
+    samples = int(values["samples"])
+    if samples < 2 or samples != values["samples"]:
+        raise InputError(f"{values['samples']:g} samples; it must be a whole number >= 2", param="samples")
+    if not 0 <= values["window"] < values["t_end"]:
+        raise InputError(f"{values['window']:g} s is not inside the run (0..{values['t_end']:g} s)", param="window")
+    return samples
+
+
+def fixed_timing(values: Mapping[str, object], **options) -> tuple[float, int]:
+    """(t_end, samples) of a scene whose :data:`TIMING` parameters give them."""
+    return values["t_end"], check_timing(values)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A scene: its parameters and what to do with their values.
+
+    ``build(values, **options) -> Network``; ``run(values, cfg, **options) -> Outcome``;
+    ``timing(values, **options) -> (t_end, samples)``. ``values`` are SI (as
+    :meth:`values` resolves them); ``options`` are the scene's keyword inputs that are no
+    value of the scene file (the linear axis's ``motor``). ``signal`` is the speed the
+    work-precision table compares; ``sweep_example`` and ``sweep_columns`` show a sweep;
+    ``plot`` lists the panels of a time plot. ``load(ref)`` reads the scene file
+    (``title``, ``source.path``, ``values``: name -> (text, why)); by default
+    :func:`beltcalc.catalogs.load_scene` for ``simulate <name>``.
+    """
+
+    name: str
+    file: str                                   # the scene file run by default
+    params: Sequence[Param]
+    build: Callable[..., object]
+    run: Callable[..., Outcome]
+    signal: str
+    sweep_example: str
+    sweep_columns: tuple[str, ...]
+    plot: tuple[Panel, ...] = ()
+    timing: Callable[..., tuple[float, int]] = fixed_timing
+    load: Callable[[str], object] | None = None
+
+    @property
+    def timed(self) -> bool:
+        """True when the run's length and samples are parameters (:data:`TIMING`); else the
+        scene finds them itself from its ``step``."""
+        return any(p.name == "t_end" for p in self.params)
+
+    def resolve(self, ref: str | None = None, given: Mapping[str, object] | None = None
+                ) -> tuple[object, dict[str, Resolved]]:
+        """(the scene file, each parameter's value with its origin): ``given`` (SI, None = not
+        given) over the scene file ``ref`` (a built-in name or a path; default :attr:`file`)."""
+        if self.load is not None:
+            scene = self.load(ref or self.file)
+        else:
+            from beltcalc.catalogs import load_scene
+
+            scene = load_scene(ref or self.file, command=f"simulate {self.name}")
+        return scene, resolve(scene, self.params, given)
+
+    def values(self, ref: str | None = None, **given) -> dict[str, object]:
+        """The SI values of the scene file ``ref`` (default :attr:`file`), ``given`` ones replaced.
+
+        >>> from beltcalc.sim.scenes import SCENES
+        >>> SCENES["sewing"].values(C4=190.0)["C4"], SCENES["sewing"].values()["J1"]
+        (190.0, 1.1e-05)
+        """
+        return {k: v.value for k, v in self.resolve(ref, given)[1].items()}
+
+    def with_step(self, values: Mapping[str, object], step: float) -> dict[str, object]:
+        """``values`` with the output step ``step`` [s]: the samples over ``t_end`` of a timed
+        scene, else the scene's own ``step``."""
+        if self.timed:
+            return dict(values, samples=float(round(values["t_end"] / step) + 1))
+        return dict(values, step=step)
+
+
+@contextmanager
+def scene_values(names: Iterable[str]) -> Iterator[None]:
+    """Errors raised inside about one of ``names`` are about a scene's value: they leave
+    with ``scope="scene"`` (the command line names them ``--set NAME``)."""
+    names = set(names)
+    try:
+        yield
+    except BeltcalcError as exc:
+        if exc.param in names and exc.scope is None:
+            exc.scope = "scene"
+        raise
+
+
+def run_scene(scene: Scene, values: Mapping[str, object], cfg, **options) -> Outcome:
+    """One run of ``scene`` with SI ``values`` and the solver config ``cfg``.
+
+    >>> from beltcalc.sim.core import SolverConfig
+    >>> from beltcalc.sim.scenes import SCENES
+    >>> sewing = SCENES["sewing"]
+    >>> out = run_scene(sewing, sewing.values(t_end=0.3, window=0.2, samples=301.0), SolverConfig())
+    >>> out.sections[0].title, out.result.method
+    ('main shaft (3), t >= 0.2 s', 'exact')
+    """
+    with scene_values(p.name for p in scene.params):
+        return scene.run(dict(values), cfg, **options)
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """The runs of a sweep of one parameter: ``outcomes[k]`` at ``points[k]``."""
+
+    name: str
+    points: list[float]
+    outcomes: list[Outcome]
+
+    def header(self) -> list[str]:
+        """The swept parameter, then every reported value (:meth:`Outcome.columns`)."""
+        return [self.name] + [c for c, _ in self.outcomes[0].columns()]
+
+    def rows(self) -> list[list[float]]:
+        """One row per point, in the order of :meth:`header`."""
+        return [[v] + [x for _, x in o.columns()] for v, o in zip(self.points, self.outcomes)]
+
+
+def sweep_scene(scene: Scene, values: Mapping[str, object], name: str, points: Sequence[float], cfg,
+                progress: Callable[[], None] | None = None, **options) -> Sweep:
+    """One run per value of ``name`` in ``points``, the other values as given; ``progress()``
+    is called after each run."""
+    outcomes = []
+    for v in points:
+        outcomes.append(run_scene(scene, dict(values, **{name: v}), cfg, **options))
+        if progress is not None:
+            progress()
+    return Sweep(name, list(points), outcomes)
+
+
+@dataclass(frozen=True)
+class WorkPrecision:
+    """Every method against the exact solution on one scene (:mod:`beltcalc.sim.workprecision`)."""
+
+    rows: list                  # WorkRow
+    t_end: float                # s
+    samples: int
+    signal: str
+
+
+def scene_work_precision(scene: Scene, values: Mapping[str, object],
+                         progress: Callable[[], None] | None = None, **options) -> WorkPrecision:
+    """Run every method at every tolerance on the scene's network and measure each against
+    the exact solution on ``scene.signal``; ``progress()`` after each run (of
+    :func:`beltcalc.sim.workprecision.count_runs`)."""
+    from beltcalc.sim.workprecision import work_precision
+
+    with scene_values(p.name for p in scene.params):
+        net = scene.build(dict(values), **options)
+        t_end, samples = scene.timing(dict(values), **options)
+    rows = work_precision(net, t_end, samples, scene.signal, progress=progress)
+    return WorkPrecision(rows, t_end, samples, scene.signal)

@@ -129,12 +129,27 @@ def parse_assignments(params: Sequence[Param], items: Iterable[str]) -> dict[str
     for item in items:
         name, sep, text = item.partition("=")
         if not sep or name not in by_name:
-            raise UsageError(f"{item!r}: use NAME=QUANTITY with NAME one of {', '.join(by_name)}", param="set")
+            raise UsageError(f"{item!r}: use NAME=QUANTITY with {_names_hint(name, list(by_name))}", param="set")
         try:
             out[name] = by_name[name].parse(text)
         except (QuantityError, ValueError) as exc:
             raise UsageError(f"{item!r}: {exc}", param="set") from None
     return out
+
+
+def _names_hint(name: str, names: list[str]) -> str:
+    """``NAME one of a, b, c`` for a few names; for many (a drive file's ELEMENT.KEY values)
+    the closest ones and how many there are.
+
+    >>> _names_hint("uper.pretension", [f"e{k}.x" for k in range(70)] + ["upper.pretension"])
+    'NAME one of the 71 values here; closest: upper.pretension'
+    """
+    if len(names) <= 60:
+        return f"NAME one of {', '.join(names)}"
+    import difflib
+
+    close = difflib.get_close_matches(name, names, n=4, cutoff=0.5)
+    return f"NAME one of the {len(names)} values here" + (f"; closest: {', '.join(close)}" if close else "")
 
 
 def sweep_points(params: Sequence[Param], text: str, example: str = "") -> tuple[str, list[float]]:

@@ -109,7 +109,7 @@ inertia = "2 kg*m^2"
     ('[[coupling]]\nname = "c"\nbetween = ["a", "b"]\nstiffness = "5 N*m/rad"\nstifness = "1"\n',
      r"coupling 'c': stifness: unknown key"),
     ('[[coupling]]\nname = "c"\nbetween = ["a", "b"]\nstiffness = "5 kg"\n',
-     r"coupling 'c': stiffness: '5 kg' is neither"),
+     r"coupling 'c': stiffness: '5 kg' is a mass, not a .*e.g. '5 N\*m/rad'"),
     ('[[coupling]]\nname = "c"\nbetween = ["a", "x"]\nstiffness = "5 N*m/rad"\n',
      r"coupling 'c': between: 'x' is not a node of this drive"),
     ('[[gear]]\nname = "g1"\nbetween = ["a", "b"]\nratio = 2\n[[gear]]\nname = "g2"\nbetween = ["b", "a"]\n'
@@ -215,7 +215,8 @@ def test_chain_sprockets_from_teeth_and_strand_from_the_chain_catalog(tmp_path):
     assert s.r_j == pytest.approx(sprocket_pitch_diameter(0.015875, 38) / 2, rel=1e-14)
     assert s.stiffness == pytest.approx(1.5e6 / 0.6, rel=1e-14)
     assert s.damping == pytest.approx(2e-4 * 1.5e6 / 0.6, rel=1e-14)
-    assert d.breaking["tight"] == pytest.approx(22.2e3, rel=1e-12)
+    assert d.limits["tight"][0] == pytest.approx(22.2e3, rel=1e-12)
+    assert d.limits["tight"][1] == "breaking load"
 
 
 def test_rigid_coupling_prints_what_it_costs(tmp_path):

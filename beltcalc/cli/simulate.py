@@ -217,17 +217,19 @@ def _save_plot(path, xlabel: str, panels, size: tuple[float, float], ylabel_size
     plt.close(fig)
 
 
-def common_options(spec: Scene):
+def common_options(spec: Scene | None):
     """The options every simulate command has (``--t-end``, ``--samples``, ``--window`` for a
-    timed scene)."""
+    timed scene; ``spec`` None: a drive file, named by its argument, not ``--scene``)."""
     def decorate(func):
         opts = [
-            click.option("--scene", default=spec.file, show_default=True,
-                         help="Built-in scene or a scene .toml file."),
             click.option("--set", "assignments", multiple=True, metavar="NAME=QUANTITY",
-                         help="Change a scene parameter, e.g. --set NAME=QUANTITY (repeatable)."),
+                         help="Change a value, e.g. --set NAME=QUANTITY (repeatable)"
+                              + ("; a drive file's values are ELEMENT.KEY." if spec is None else ".")),
         ]
-        if spec.timed:
+        if spec is not None:
+            opts.insert(0, click.option("--scene", default=spec.file, show_default=True,
+                                        help="Built-in scene or a scene .toml file."))
+        if spec is None or spec.timed:
             opts += [click.option("--t-end", type=str, default=None, help="Simulated time [default: the scene's]."),
                      click.option("--samples", type=click.IntRange(2, 10_000_000), default=None, help="Output samples."),
                      click.option("--window", type=str, default=None,
@@ -247,7 +249,7 @@ def common_options(spec: Scene):
                          help="Print a result whose error estimate exceeds --error-tol (marked) instead of failing."),
             click.option("--modes", is_flag=True, help="Also print the natural frequencies and damping ratios."),
             click.option("--sweep", "sweep_text", default=None, metavar="NAME=START:STOP:N",
-                         help="Sweep a scene parameter."),
+                         help="Sweep a value (a scene parameter, a drive file's ELEMENT.KEY)."),
             click.option("--plot", "plot_path", type=OutputPath(), default=None, help="Write a PNG (needs matplotlib)."),
             click.option("--work-precision", is_flag=True,
                          help="Run every method at tolerances 1e-3..1e-10 and tabulate wall time against error."),
@@ -303,3 +305,24 @@ def linear_axis(belt_model, drive, substitute_mass_model, motor_name, catalog_pa
     run_command(SCENES["linear-axis"], preset={"belt_model": belt_model, "drive": drive},
                 options={"substitute_mass_model": substitute_mass_model, "motor": motor_name,
                          "catalog": catalog_paths}, **kw)
+
+
+@simulate.command("drive")
+@click.argument("file", metavar="FILE")
+@common_options(None)
+@catalog_option
+def drive(file, catalog_paths, **kw):
+    """Your own drive train from a drive file (TOML; docs/drive_files.md), or a built-in one
+    by name (conveyor, sewing, friswell_5_disks, friswell_geared): every node's speed, every
+    coupling's and shaft's torque, every strand's extremes, slack time and safety, every
+    motor's torque. Any value is --set ELEMENT.KEY=QUANTITY, e.g. --set upper.pretension=300N,
+    or swept: --sweep upper.pretension=200N:600N:5."""
+    from beltcalc.sim.scenes.drive import drive_scene
+
+    catalog = None
+    if catalog_paths:
+        from beltcalc.catalogs import load_catalog
+
+        catalog = load_catalog(catalog_paths)
+    spec = drive_scene(file, catalog)
+    run_command(spec, scene=spec.file, options={}, **kw)

@@ -43,6 +43,7 @@ class Key:
     unit: str
     help: str
     required: bool = False
+    low: str = ""          # "": any value; ">0" positive; ">=0" not negative
 
     @property
     def scalar(self) -> bool:
@@ -54,53 +55,53 @@ TORQUE = "N*m|N"
 KEYS: dict[str, dict[str, Key]] = {
     "drive": {
         "title": Key("text", "title of the report"),
-        "t_end": Key("s", "simulated time", True),
+        "t_end": Key("s", "simulated time", True, low=">0"),
         "samples": Key("int", "output samples (>= 2)"),
-        "window": Key("s", "start of the steady window for means and amplitudes"),
+        "window": Key("s", "start of the steady window for means and amplitudes", low=">=0"),
     },
     "node": {
         "name": Key("text", "unique name", True),
-        "inertia": Key("kg*m^2", "rotating inertia (0: massless, condensed out)"),
-        "mass": Key("kg", "a translating mass instead of an inertia"),
+        "inertia": Key("kg*m^2", "rotating inertia (0: massless, condensed out)", low=">=0"),
+        "mass": Key("kg", "a translating mass instead of an inertia", low=">=0"),
         "teeth": Key("int", "teeth of the pulley or sprocket (pitch diameter from the belt or chain)"),
         "belt": Key("text", "belt profile of the pulley (catalog name), for its pitch diameter"),
         "chain": Key("text", "chain of the sprocket (catalog name), for its pitch diameter"),
-        "pitch_diameter": Key("m", "pitch diameter where strands leave the node"),
+        "pitch_diameter": Key("m", "pitch diameter where strands leave the node", low=">0"),
     },
     "coupling": {
         "name": Key("text", "unique name"),
         "between": Key("names", "[node, node] (one node: to the frame)", True),
-        "stiffness": Key("N*m/rad|N/m", "spring C", True),
-        "damping": Key("N*m*s/rad|N*s/m", "damper d"),
-        "ratio": Key("", "U: the torque is C (phi_a - U phi_b) + d (omega_a - U omega_b)"),
+        "stiffness": Key("N*m/rad|N/m", "spring C", True, low=">=0"),
+        "damping": Key("N*m*s/rad|N*s/m", "damper d", low=">=0"),
+        "ratio": Key("", "U: the torque is C (phi_a - U phi_b) + d (omega_a - U omega_b)", low=">0"),
         "rigid": Key("bool", "join the two nodes rigidly (phi_b = phi_a / U); the error of doing so is printed"),
     },
     "shaft": {
         "name": Key("text", "unique name"),
         "between": Key("names", "[node, node]", True),
-        "diameter": Key("m", "outer diameter", True),
-        "bore": Key("m", "bore diameter (0: solid)"),
-        "length": Key("m", "length between the nodes", True),
+        "diameter": Key("m", "outer diameter", True, low=">0"),
+        "bore": Key("m", "bore diameter (0: solid)", low=">=0"),
+        "length": Key("m", "length between the nodes", True, low=">0"),
         "material": Key("text", "material of catalogs/materials.toml (G and density)"),
-        "shear_modulus": Key("Pa", "G, instead of a material's"),
-        "density": Key("kg/m^3", "density, for the shaft's own inertia (half to each node)"),
-        "damping": Key("N*m*s/rad", "damper d"),
-        "damping_time": Key("s", "stiffness-proportional damping d = beta C"),
+        "shear_modulus": Key("Pa", "G, instead of a material's", low=">0"),
+        "density": Key("kg/m^3", "density, for the shaft's own inertia (half to each node)", low=">=0"),
+        "damping": Key("N*m*s/rad", "damper d", low=">=0"),
+        "damping_time": Key("s", "stiffness-proportional damping d = beta C", low=">=0"),
     },
     "gear": {
         "name": Key("text", "unique name"),
         "between": Key("names", "[node a, node b]", True),
-        "ratio": Key("", "speed of a / speed of b (phi_b = phi_a / ratio)", True),
+        "ratio": Key("", "speed of a / speed of b (phi_b = phi_a / ratio)", True, low=">0"),
     },
     "belt_span": {
         "name": Key("text", "unique name"),
         "from": Key("text", "node it leaves (its pitch circle, or a translating node)", True),
         "to": Key("text", "node it reaches", True),
         "belt": Key("text", "belt profile (catalog name)", True),
-        "width": Key("m", "belt width (a catalog width)", True),
-        "length": Key("m", "free span length", True),
-        "pretension": Key("N", "pretension F_0"),
-        "damping": Key("N*s/m", "b; otherwise fitted to the catalog's F_tspec(n) as `beltcalc tension` does"),
+        "width": Key("m", "belt width (a catalog width)", True, low=">0"),
+        "length": Key("m", "free span length", True, low=">0"),
+        "pretension": Key("N", "pretension F_0", low=">=0"),
+        "damping": Key("N*s/m", "b; otherwise fitted to the catalog's F_tspec(n) as `beltcalc tension` does", low=">=0"),
         "tension_only": Key("bool", "true (default): the span goes slack; false: a two-way spring"),
     },
     "chain_strand": {
@@ -108,32 +109,32 @@ KEYS: dict[str, dict[str, Key]] = {
         "from": Key("text", "node (sprocket) it leaves", True),
         "to": Key("text", "node (sprocket) it reaches", True),
         "chain": Key("text", "chain (catalogs/chains.toml name, e.g. 10B-1)", True),
-        "length": Key("m", "free strand length", True),
-        "pretension": Key("N", "pretension F_0"),
-        "stiffness": Key("N", "EA: the force per unit strain (chains publish none: the file must say)", True),
-        "damping": Key("N*s/m", "b"),
-        "damping_time": Key("s", "stiffness-proportional damping b = beta c"),
+        "length": Key("m", "free strand length", True, low=">0"),
+        "pretension": Key("N", "pretension F_0", low=">=0"),
+        "stiffness": Key("N", "EA: the force per unit strain (chains publish none: the file must say)", True, low=">0"),
+        "damping": Key("N*s/m", "b", low=">=0"),
+        "damping_time": Key("s", "stiffness-proportional damping b = beta c", low=">=0"),
     },
     "motor": {
         "name": Key("text", "unique name"),
         "kind": Key("text", "induction, prescribed, speed_loop or torque", True),
         "node": Key("text", "node it drives", True),
-        "rated_torque": Key("N*m", "induction: rated torque (or rated_power and rated_speed)"),
-        "rated_power": Key("W", "induction: rated power"),
-        "rated_speed": Key("rad/s", "induction: rated speed"),
-        "breakdown_factor": Key("", "induction: breakdown torque / rated torque"),
-        "breakdown_slip": Key("", "induction: breakdown slip"),
-        "supply": Key("Hz", "induction: supply frequency"),
+        "rated_torque": Key("N*m", "induction: rated torque (or rated_power and rated_speed)", low=">0"),
+        "rated_power": Key("W", "induction: rated power", low=">0"),
+        "rated_speed": Key("rad/s", "induction: rated speed", low=">0"),
+        "breakdown_factor": Key("", "induction: breakdown torque / rated torque", low=">0"),
+        "breakdown_slip": Key("", "induction: breakdown slip", low=">0"),
+        "supply": Key("Hz", "induction: supply frequency", low=">0"),
         "pole_pairs": Key("int", "induction: pole pairs"),
-        "ramp": Key("s", "induction: inverter ramp from 0 to the supply frequency (0: none)"),
+        "ramp": Key("s", "induction: inverter ramp from 0 to the supply frequency (0: none)", low=">=0"),
         "speed": Key("rad/s|m/s", "prescribed: initial speed"),
         "accel": Key("table:s,rad/s^2|m/s^2", "prescribed: acceleration table [[t, a], ...]"),
         "distance": Key("rad|m", "prescribed: a move of this distance (motor-size profile)"),
-        "max_speed": Key("rad/s|m/s", "prescribed: the move's speed limit"),
-        "max_accel": Key("rad/s^2|m/s^2", "prescribed: the move's acceleration limit"),
-        "jerk": Key("rad/s^3|m/s^3", "prescribed: jerk limit (S-curve); none: trapezoid"),
-        "start": Key("s", "prescribed: the move starts here"),
-        "gain": Key("N*m*s/rad|N*s/m", "speed_loop: proportional gain"),
+        "max_speed": Key("rad/s|m/s", "prescribed: the move's speed limit", low=">0"),
+        "max_accel": Key("rad/s^2|m/s^2", "prescribed: the move's acceleration limit", low=">0"),
+        "jerk": Key("rad/s^3|m/s^3", "prescribed: jerk limit (S-curve); none: trapezoid", low=">0"),
+        "start": Key("s", "prescribed: the move starts here", low=">=0"),
+        "gain": Key("N*m*s/rad|N*s/m", "speed_loop: proportional gain", low=">=0"),
         "reference": Key("table:s,rad/s|m/s", "speed_loop: speed reference [[t, speed], ...]"),
         "feedforward": Key("table:s,N*m|N", "speed_loop: feed-forward torque [[t, torque], ...]"),
         "torque": Key("table:s,N*m|N", "torque: drive torque [[t, torque], ...]"),
@@ -143,10 +144,10 @@ KEYS: dict[str, dict[str, Key]] = {
         "node": Key("text", "node it acts on", True),
         "torque": Key(TORQUE, "constant part, against the motion"),
         "amplitude": Key(TORQUE, "amplitude of the sine"),
-        "frequency": Key("rad/s|Hz", "frequency of the sine in time"),
-        "order": Key("", "instead of frequency: the sine locked to the node's angle, sin(order phi)"),
+        "frequency": Key("rad/s|Hz", "frequency of the sine in time", low=">=0"),
+        "order": Key("", "instead of frequency: the sine locked to the node's angle, sin(order phi)", low=">0"),
         "phase": Key("rad", "phase of the sine"),
-        "start": Key("s", "the load acts from here on"),
+        "start": Key("s", "the load acts from here on", low=">=0"),
         "table": Key("table:s,N*m|N", "tabulated part [[t, torque], ...]"),
     },
 }
@@ -192,7 +193,7 @@ class Drive:
     nodes: list[str] = field(default_factory=list)
     torques: list[tuple[str, str]] = field(default_factory=list)     # (signal, label) of couplings/shafts
     spans: dict[str, float] = field(default_factory=dict)            # two-way span -> lever r [m]
-    breaking: dict[str, float] = field(default_factory=dict)         # strand -> breaking load [N]
+    limits: dict[str, tuple[float, str]] = field(default_factory=dict)  # strand -> (force limit [N], its name)
     motors: list[tuple[str, str]] = field(default_factory=list)      # (torque signal, node)
     inputs: dict = field(default_factory=dict)                       # address -> (SI value, origin)
 
@@ -265,6 +266,21 @@ class DriveFile:
                 self.fail(entry.where, key, f"missing ({spec.help})")
 
     # --- parameters -------------------------------------------------------------------------
+    def unit(self, e: Entry, key: str) -> str:
+        """The SI unit of ``key`` of entry ``e``: a key of either dimension (a torque or a
+        force, ``N*m|N``) takes the one of the node it acts on (rotating or translating)."""
+        unit = KEYS[e.section][key].unit
+        if "|" not in unit or e.section not in ("coupling", "load", "motor"):
+            return unit
+        node = e.raw.get("between", [None])[0] if e.section == "coupling" else e.raw.get("node")
+        entry = next((n for n in self.entries if n.section == "node" and n.name == node), None)
+        if entry is None:
+            return unit
+        translating = "mass" in entry.raw
+        head, _, tail = unit.rpartition(",") if unit.startswith("table:") else ("", "", unit)
+        pick = tail.split("|")[1 if translating else 0]
+        return f"{head}," + pick if head else pick
+
     def params(self) -> list[DriveParam]:
         """Every addressable value: the timing, then ``ELEMENT.KEY`` of every element, with
         the file's text where the file gives it."""
@@ -273,7 +289,7 @@ class DriveFile:
         for e in self.entries:
             for key, spec in KEYS[e.section].items():
                 if spec.scalar and key not in ("name", "node", "from", "to", "kind"):
-                    out.append(DriveParam(f"{e.name}.{key}", spec.unit, _text(e.raw.get(key)), spec.help))
+                    out.append(DriveParam(f"{e.name}.{key}", self.unit(e, key), _text(e.raw.get(key)), spec.help))
         return out
 
     # --- building -----------------------------------------------------------------------------
@@ -287,12 +303,13 @@ class DriveFile:
         known = {p.name for p in self.params()}
         for name in values:
             if name not in known:
-                raise InputError(f"{name!r} is not a value of this drive file ({self.path.name})", param=name)
+                raise InputError(f"{name!r} is not a value of this drive file ({self.path.name})", param=name,
+                                 scope="scene")
         b = _Builder(self, values, catalog)
         try:
             parts = b.elements()
         except BeltcalcError as exc:
-            if isinstance(exc, DriveFileError):
+            if isinstance(exc, DriveFileError) or exc.scope == "scene":
                 raise
             raise DriveFileError(f"{self.path}: {b.current}: {exc.message}") from None
         try:
@@ -304,7 +321,7 @@ class DriveFile:
         t_end, samples, window = b.timing()
         drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
                       samples=samples, window=window, notes=b.notes, nodes=[n.name for n in parts["nodes"]],
-                      torques=b.torques, spans=b.spans, breaking=b.breaking, motors=b.motor_signals,
+                      torques=b.torques, spans=b.spans, limits=b.limits, motors=b.motor_signals,
                       inputs=b.used)
         if b.rigid:
             drive.notes += _rigid_notes(self, values, catalog, net, b.rigid)
@@ -327,7 +344,7 @@ class _Builder:
         self.notes: list[str] = []
         self.torques: list[tuple[str, str]] = []
         self.spans: dict[str, float] = {}
-        self.breaking: dict[str, float] = {}
+        self.limits: dict[str, tuple[float, str]] = {}
         self.motor_signals: list[tuple[str, str]] = []
         self.rigid: list[str] = []
         self.used: dict = {}
@@ -343,20 +360,29 @@ class _Builder:
 
     # --- values ---------------------------------------------------------------------------
     def get(self, e: Entry, key: str, default=None):
-        """The SI value of ``key`` of entry ``e`` (an override first), or ``default``."""
+        """The SI value of ``key`` of entry ``e`` (an override first), or ``default``; a
+        value out of its key's range is refused, naming the file's element and key (or the
+        address, when the value was set)."""
         spec = KEYS[e.section][key]
+        unit = self.f.unit(e, key)
         address = key if e.section == "drive" else f"{e.name}.{key}"
         if address in self.values:
             value = self.values[address]
+            value = value[0] if isinstance(value, tuple) else value
             self.used[address] = (value, "set")
-            return value[0] if isinstance(value, tuple) else value
+            problem = _out_of_range(value, spec, unit)
+            if problem:
+                raise InputError(problem, param=address, scope="scene")
+            return value
         if key not in e.raw:
             return default
-        raw = e.raw[key]
         try:
-            value = _convert(raw, spec)
+            value = _convert(e.raw[key], Key(unit, spec.help))
         except (ValueError, TypeError) as exc:
             self.f.fail(e.where, key, str(exc))
+        problem = _out_of_range(value, spec, unit)
+        if problem:
+            self.f.fail(e.where, key, problem)
         if spec.scalar:
             self.used[address] = (value, "file")
         return value
@@ -552,7 +578,7 @@ class _Builder:
             self.notes.append(f"belt span {e.name}: k = C_spec / L = {k:.5g} N/m, b = {b:.4g} N s/m {why}")
         F0 = self.get(e, "pretension", 0.0)
         if row.F_Tadm:
-            self.breaking[e.name] = row.F_Tadm
+            self.limits[e.name] = (row.F_Tadm, "F_Tadm")
         if e.raw.get("tension_only", True) is False:
             # one two-way spring k = C_spec / L (the substitute model, Wojtkowiak et al. eq. 5):
             # C (phi_i - U phi_j) with C = k r_i^2, U = r_j / r_i: the torque r_i F
@@ -587,7 +613,7 @@ class _Builder:
         beta = self.get(e, "damping_time")
         b = self.get(e, "damping", 0.0) if beta is None else beta * c
         parts["strands"].append(Strand(e.name, i, j, r_i, r_j, c, b, self.get(e, "pretension", 0.0)))
-        self.breaking[e.name] = chain.breaking_load
+        self.limits[e.name] = (chain.breaking_load, "breaking load")
 
     def _motor(self, e: Entry, parts) -> None:
         from beltcalc.sim.network import InductionMotor, Load, Prescribed, SpeedLoop
@@ -667,12 +693,23 @@ class _Builder:
         if freq[0] is not None:
             omega = freq[0] * (2 * math.pi if freq[1] == "Hz" else 1.0)
         order = self.get(e, "order")
-        if order is not None and freq[0] is not None:
+        if order is not None and freq[0]:
             self.f.fail(e.where, "order", "give frequency (in time) or order (in the shaft angle), not both")
         parts["loads"].append(Load(node, self.get(e, "torque", 0.0), self.get(e, "amplitude", 0.0), omega,
                                    self.get(e, "phase", 0.0), in_angle=order is not None,
                                    table=tuple(self.get(e, "table", ())), start=self.get(e, "start", 0.0),
                                    order=1.0 if order is None else order))
+
+
+def _out_of_range(value, spec: Key, unit: str) -> str:
+    """Why ``value`` is outside its key's range, or ``""``."""
+    if not spec.low or not isinstance(value, (int, float)) or isinstance(value, bool):
+        return ""
+    bad = value <= 0 if spec.low == ">0" else value < 0
+    if not bad:
+        return ""
+    u = "" if unit in ("", "int") else " " + unit.split("|")[0]
+    return f"{value:g}{u} is not allowed; it must be {spec.low[0:-1]} 0{u}"
 
 
 def _convert(raw, spec: Key, keep_unit: bool = False):
@@ -780,13 +817,15 @@ def drive_path(ref: str | Path) -> Path:
     from beltcalc.errors import UnknownNameError
 
     path = Path(ref)
-    if path.suffix == ".toml" or path.exists():
+    if path.exists():
         return path
+    if path.suffix == ".toml" or len(path.parts) > 1:
+        raise UnknownNameError(f"drive file {str(ref)!r}: no such file")
     builtin = builtin_dir() / "drives" / f"{ref}.toml"
     if builtin.exists():
         return builtin
-    raise UnknownNameError(f"{str(ref)!r} is neither a drive file nor a built-in drive "
-                           f"({', '.join(drive_names())})", param="file")
+    raise UnknownNameError(f"drive {str(ref)!r} is neither a file nor a built-in drive "
+                           f"({', '.join(drive_names())})")
 
 
 def load_drive(ref: str | Path, catalog=None, **values) -> Drive:

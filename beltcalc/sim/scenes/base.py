@@ -233,3 +233,23 @@ def scene_work_precision(scene: Scene, values: Mapping[str, object],
         t_end, samples = scene.timing(dict(values), **options)
     rows = work_precision(net, t_end, samples, scene.signal, progress=progress)
     return WorkPrecision(rows, t_end, samples, scene.signal)
+
+
+def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group: str,
+                    label: str = "limit / max") -> list[Section]:
+    """One row per tension-only strand over the whole run: force min and max (off the exact
+    solution where the run kept them), the time it was slack, and its force limit (a
+    chain's breaking load, a belt's F_Tadm: ``limits[name] = (N, what)``) over its peak."""
+    from beltcalc.report import Row
+
+    slack = result.extra.get("slack_time", {})
+    out = []
+    for strand in net.strands:
+        s = result.summary(f"F_{strand.name}", 0.0)
+        rows = [Row("force_min", "force min", s.min, "N"), Row("force_max", "force max", s.max, "N"),
+                Row("slack_time", "time slack", float(slack.get(strand.name, 0.0)), "s")]
+        if strand.name in limits:
+            limit, what = limits[strand.name]
+            rows.append(Row("safety", label, limit / max(s.max, 1e-300), "1", digits=3, note=what))
+        out.append(Section(("strands", strand.name), strand.name, rows, group=group, item=strand.name))
+    return out

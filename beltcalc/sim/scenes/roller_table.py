@@ -30,7 +30,7 @@ from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network, Strand, series_stiffness
-from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values
+from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values, strand_sections
 
 ROUTINGS = ("serpentine", "loops")
 POSITIVE = {
@@ -234,16 +234,9 @@ def run(values: dict, cfg) -> Outcome:
             Row("torque_far_end_amplitude", "ampl.", tb.amplitude, "N m"),
         ], group=f"rollers, t >= {w0:g} s (torque into the drive end through the journal, and along the tube "
                  "to the far end)", item=str(k)))
-    slack = result.extra.get("slack_time", {})
-    for s in net.strands:
-        force = result.summary(f"F_{s.name}", 0.0)
-        sections.append(Section(("strands", s.name), s.name, [
-            Row("force_min", "force min", force.min, "N"),
-            Row("force_max", "force max", force.max, "N"),
-            Row("slack_time", "time slack", float(slack.get(s.name, 0.0)), "s"),
-            Row("safety", "breaking load / max", values["chain_breaking_load"] / max(force.max, 1e-300), "1",
-                digits=3),
-        ], group="chain strands, whole run (tension only; slack = no force)", item=s.name))
+    breaking = {s.name: (values["chain_breaking_load"], "breaking load") for s in net.strands}
+    sections += strand_sections(net, result, breaking, "chain strands, whole run (tension only; slack = no force)",
+                                label="breaking load / max")
     speed, torque = result.summary("omega_motor", w0), result.summary("M_motor", w0)
     whole = result.summary("M_motor", 0.0)
     peak = max(abs(whole.min), abs(whole.max))

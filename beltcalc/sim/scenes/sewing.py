@@ -11,7 +11,7 @@ import math
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
 from beltcalc.report import Row, Section
-from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network
+from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values
 
 NODES = ("1", "2", "3", "4", "5")
@@ -75,26 +75,36 @@ def steady_speed(p: dict) -> float:
     return w0 * (1 - p["breakdown_slip"] * torque / (2 * mc)) / ratio3
 
 
+#: the scene's parameters as values of its drive file (catalogs/drives/sewing.toml)
+ALIASES = {**{f"J{k}": f"{k}.inertia" for k in NODES},
+           **{f"C{k}": f"{k}{k + 1}.stiffness" for k in range(1, 5)},
+           **{f"d{k}": f"{k}{k + 1}.damping" for k in range(1, 5)},
+           **{f"U{k}{k + 1}": f"{k}{k + 1}.ratio" for k in range(1, 5)},
+           "M3_0": "M3.torque", "M3_amp": "M3.amplitude", "M5_0": "M5.torque", "M5_amp": "M5.amplitude",
+           "rated_torque": "motor.rated_torque", "breakdown_factor": "motor.breakdown_factor",
+           "breakdown_slip": "motor.breakdown_slip", "supply_frequency": "motor.supply",
+           "pole_pairs": "motor.pole_pairs"}
+
+
 def build(p: dict, angle_loads: bool = False) -> Network:
-    """The network of the scene's parameters ``p`` (SI floats, keys as in sewing.toml).
+    """The network of the scene's parameters ``p`` (SI floats, keys as in sewing.toml): the
+    drive file ``catalogs/drives/sewing.toml`` with the scene's values (:data:`ALIASES`),
+    the loads at ``load_frequency`` (0: the steady main-shaft speed, :func:`steady_speed`).
 
     With ``angle_loads`` the loads follow the shaft angle, sin(phi), instead of sin(w t):
     the network is then nonlinear.
     """
+    from beltcalc.sim.drivefile import load_drive
+
     check(p)
-    nodes = [Inertia(k, p[f"J{k}"]) for k in NODES]
-    ratios = [p["U12"], p["U23"], p["U34"], p["U45"]]
-    couplings = [Coupling(f"{k}{k + 1}", str(k), str(k + 1), p[f"C{k}"], p[f"d{k}"], ratios[k - 1])
-                 for k in range(1, 5)]
-    w = p["load_frequency"] or steady_speed(p)
-    loads = [
-        Load("3", p["M3_0"], p["M3_amp"], 0.0 if angle_loads else w, in_angle=angle_loads),
-        Load("5", p["M5_0"], p["M5_amp"], 0.0 if angle_loads else w, in_angle=angle_loads),
-    ]
-    motor = InductionMotor("1", p["breakdown_factor"] * p["rated_torque"], p["breakdown_slip"],
-                           2 * math.pi * p["supply_frequency"] / p["pole_pairs"],
-                           2 * math.pi * p["supply_frequency"])
-    return Network(nodes, couplings, loads, motor)
+    values = {alias: p[name] for name, alias in ALIASES.items()}
+    values["motor.pole_pairs"] = int(p["pole_pairs"])
+    w = 0.0 if angle_loads else (p["load_frequency"] or steady_speed(p))
+    for load in ("M3", "M5"):
+        values[f"{load}.frequency"] = w
+        if angle_loads:
+            values[f"{load}.order"] = 1.0
+    return load_drive("sewing", **{k.replace(".", "__"): v for k, v in values.items()}).network
 
 
 def run(values: dict, cfg, angle_loads: bool = False) -> Outcome:

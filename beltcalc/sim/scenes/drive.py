@@ -1,0 +1,147 @@
+"""A drive file as a scene (``beltcalc simulate drive FILE``): its parameters are the file's
+values (``ELEMENT.KEY``, and ``t_end``/``samples``/``window``), and its report follows the
+file: every node's speed, every coupling's and shaft's torque, every strand's extremes,
+slack time and safety, every motor's torque, over the steady window (strands: the whole
+run). Means and extremes come off the exact solution where the run is exact
+(:mod:`beltcalc.sim.watch`). SI floats only.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from pathlib import Path
+
+from beltcalc.params import Param
+from beltcalc.report import Row, Section
+from beltcalc.sim.scenes.base import Outcome, Scene, check_timing, strand_sections
+
+
+class _FileScene:
+    """What :meth:`Scene.resolve` reads from a scene file: title, source path, values."""
+
+    def __init__(self, drive_file):
+        class _Source:
+            path = drive_file.path
+
+        self.title = drive_file.head.raw.get("title") or drive_file.path.stem
+        self.source = _Source()
+        self.values = {p.name: (p.text, "drive file") for p in drive_file.params() if p.text is not None}
+
+
+def _param(p) -> Param:
+    unit = {"text": None}.get(p.unit, p.unit)
+    if p.name == "samples":
+        unit = ""
+    return Param(p.name, unit, p.help, required=p.name in ("t_end",))
+
+
+def drive_scene(ref: str | Path, catalog=None) -> Scene:
+    """The scene of a drive file (a path, or a built-in drive by name).
+
+    >>> from beltcalc.sim.core import SolverConfig
+    >>> from beltcalc.sim.scenes.base import run_scene
+    >>> scene = drive_scene("friswell_5_disks")
+    >>> out = run_scene(scene, scene.values(samples=201.0), SolverConfig())
+    >>> [s.item for s in out.sections if s.path[0] == "nodes"]
+    ['disk1', 'disk2', 'disk3', 'disk4', 'disk5']
+    """
+    from beltcalc.sim.drivefile import DriveFile, drive_path
+
+    f = DriveFile(drive_path(ref))
+    f.build(catalog=catalog)            # the file as written: its own errors name element and key
+    params = [_param(p) for p in f.params()]
+    speeds = [(f"omega_{e.name}" if "mass" not in e.raw else f"v_{e.name}", e.name)
+              for e in f.entries if e.section == "node"]
+    return Scene(name="drive", file=str(f.path), params=params,
+                 build=partial(_build, f, catalog), run=partial(_run, f, catalog),
+                 signal=speeds[0][0], sweep_example=_sweep_example(params),
+                 sweep_columns=(), plot=(("speed", tuple(speeds)),),
+                 load=lambda _ref: _FileScene(f))
+
+
+def _sweep_example(params: list[Param]) -> str:
+    p = next((p for p in params if "." in p.name and p.unit not in (None, "int") and "|" not in p.unit), None)
+    return f"{p.name}=START:STOP:N" if p else "t_end=1s:2s:3"
+
+
+def _values(values: dict) -> dict:
+    """Scene values as the drive file's builder takes them (the timing as given)."""
+    out = dict(values)
+    if "samples" in out and out["samples"] is not None:
+        out["samples"] = int(out["samples"])
+    return out
+
+
+def _build(drive_file, catalog, values: dict, **options):
+    return drive_file.build(_values(values), catalog).network
+
+
+def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
+    from beltcalc.sim.core import simulate
+
+    drive = drive_file.build(_values(values), catalog)
+    check_timing({"t_end": drive.t_end, "samples": float(drive.samples), "window": drive.window})
+    net = drive.network
+    w0 = drive.window
+    watched = [_speed(net, n) for n in drive.nodes] + [s for s, _ in drive.torques]
+    watched += [f"F_{s.name}" for s in net.strands] + [s for s, _ in drive.motors]
+    result = simulate(net, drive.t_end, drive.samples, cfg, watch=(watched, (0.0, w0)))
+    return Outcome(net, result, report(drive, result), list(drive.notes))
+
+
+def _speed(net, node: str) -> str:
+    return f"v_{node}" if net.node(node).translation else f"omega_{node}"
+
+
+def report(drive, result) -> list[Section]:
+    """The sections of a drive's run: nodes, couplings and shafts, two-way spans, strands,
+    motors (see the module docstring)."""
+    net, w0 = drive.network, drive.window
+    out = []
+    where = f"t >= {w0:g} s"
+    for node in drive.nodes:
+        name = _speed(net, node)
+        s = result.summary(name, w0)
+        unit = result.units[name]
+        out.append(Section(("nodes", node), node, [
+            Row("speed_mean", "speed mean", s.mean, unit, digits=5),
+            Row("speed_amplitude", "ampl.", s.amplitude, unit),
+            Row("speed_min", "min", s.min, unit, digits=5),
+            Row("speed_max", "max", s.max, unit, digits=5),
+        ], group=f"nodes, {where}", item=node))
+    for signal, name in drive.torques:
+        s = result.summary(signal, w0)
+        unit = result.units[signal]
+        rows = [Row("torque_mean", "torque mean" if unit == "N m" else "force mean", s.mean, unit),
+                Row("torque_amplitude", "ampl.", s.amplitude, unit),
+                Row("torque_min", "min", s.min, unit), Row("torque_max", "max", s.max, unit)]
+        out.append(Section(("couplings", name), name, rows, group=f"couplings and shafts, {where}", item=name))
+    for name, lever in drive.spans.items():
+        s = result.summary(f"T_{name}", w0)
+        out.append(Section(("spans", name), name, [
+            Row("force_mean", "force mean", s.mean / lever, "N"),
+            Row("force_amplitude", "ampl.", s.amplitude / lever, "N"),
+            Row("force_min", "min", s.min / lever, "N"), Row("force_max", "max", s.max / lever, "N"),
+        ] + _safety(drive, name, max(abs(s.min), abs(s.max)) / lever),
+            group=f"belt spans (two-way), {where}; limit: F_Tadm", item=name))
+    out += strand_sections(net, result, drive.limits, "strands, whole run (tension only; slack = no force; "
+                           "limit: a belt's F_Tadm, a chain's breaking load)")
+    for signal, node in drive.motors:
+        s, whole = result.summary(signal, w0), result.summary(signal, 0.0)
+        speed = result.summary(_speed(net, node), w0)
+        unit = result.units[signal]
+        out.append(Section(("motors", signal), f"motor on {node} ({signal}), {where}", [
+            Row("torque_mean", "torque, mean", s.mean, unit),
+            Row("torque_amplitude", "torque, amplitude", s.amplitude, unit),
+            Row("torque_peak", "torque, peak over the run", max(abs(whole.min), abs(whole.max)), unit),
+            Row("speed_mean", "speed, mean", speed.mean, result.units[_speed(net, node)], digits=5),
+        ]))
+    return out
+
+
+def _safety(drive, name: str, force_max: float) -> list[Row]:
+    """The strand's force limit (a chain's breaking load, a belt's F_Tadm) over its peak force."""
+    if name not in drive.limits:
+        return []
+    limit, what = drive.limits[name]
+    return [Row("safety", "limit / max", limit / max(force_max, 1e-300), "1", digits=3, note=what)]

@@ -285,7 +285,7 @@ class BeltDriveReport:
 
 def _force(inp: BeltDriveInputs, d1: float) -> tuple[float, str]:
     if inp.force is not None:
-        return require_positive("force", inp.force, "N"), "given (--force)"
+        return require_positive("force", inp.force, "N"), "given (force)"
     if inp.torque is not None:
         return peripheral_force(inp.torque, d1), f"2 T / d1 with T = {inp.torque:g} N m"
     if inp.mass is not None and inp.accel is not None:
@@ -294,7 +294,7 @@ def _force(inp: BeltDriveInputs, d1: float) -> tuple[float, str]:
         require_range("friction_force", inp.friction_force, "N", 0.0)
         return (inp.mass * inp.accel + inp.friction_force,
                 f"m a_max + F_R = {inp.mass:g} kg x {inp.accel:g} m/s^2 + {inp.friction_force:g} N")
-    raise InputError("give the peripheral force: --force, --torque, or --mass with --accel", param="force")
+    raise InputError("give the peripheral force: `force`, `torque`, or `mass` with `accel`", param="force")
 
 
 def _paper_tension(inp: BeltDriveInputs, belt: BeltProfile, d1: float) -> float | None:
@@ -335,10 +335,10 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
         if z != int(z) or z < 1:
             raise InputError(f"{z:g} is not allowed; a pulley needs a whole number of teeth >= 1", param=name)
     if z2 < z1:
-        raise InputError(f"{z2} teeth: the large pulley must have at least the {z1} teeth of --teeth",
+        raise InputError(f"{z2} teeth: the large pulley must have at least the {z1} teeth of `teeth`",
                          param="teeth_large")
     if inp.layout == "linear" and z2 != z1:
-        raise InputError("a linear axis here has equal pulleys; leave --teeth-large out", param="teeth_large")
+        raise InputError("a linear axis here has equal pulleys; leave `teeth_large` out", param="teeth_large")
     d1, d2 = bm.pulley_pitch_diameter(z1, belt.pitch), bm.pulley_pitch_diameter(z2, belt.pitch)
     a = inp.center_distance
     wrap = geo.wrap_angles(d1, d2, a)
@@ -363,7 +363,7 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
     force, force_source = _force(inp, d1)
     if inp.service_factor is not None:
         c2 = require_range("service_factor", inp.service_factor, "", 1.0)
-        service = ServiceFactor(c2, c2, "given", 0.0, 0.0, "given (--service-factor)")
+        service = ServiceFactor(c2, c2, "given", 0.0, 0.0, "given (service_factor)")
     else:
         service = service_factor(factors, inp.load, inp.hours, inp.peak_ratio, inp.starts_per_day,
                                  inp.idler, inp.speed_up_ratio)
@@ -379,7 +379,7 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
     rule = installation_tension_rule(force, inp.layout)
     if inp.pretension is not None:
         f_v = require_range("pretension", inp.pretension, "N", 0.0)
-        pre_src = "given (--pretension)"
+        pre_src = "given (pretension)"
     else:
         f_v = rule
         pre_src = ("manufacturers' rule F_v = F_U (linear drive, Elatech p. 55)" if inp.layout == "linear"
@@ -401,9 +401,9 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
     if inp.f_tspec is not None:
         specific = require_positive("f_tspec", inp.f_tspec, "N/m")
     elif not belt.F_tspec:
-        reason = f"{belt.name} has no F_tspec(n) table in its catalog; give --f-tspec"
+        reason = f"{belt.name} has no F_tspec(n) table in its catalog; give `f_tspec`"
     elif speed is None:
-        reason = "no running speed; give --speed"
+        reason = "no running speed; give `speed`"
     else:
         try:
             specific = specific_tooth_load(belt.F_tspec, speed)

@@ -95,7 +95,7 @@ class BeltProfile:
         if not self.widths:
             raise UnknownNameError(
                 f"{self.name} has no width table in its catalog ({self.source.path}); "
-                "give --f-tadm, --c-spec and --belt-weight for the width you use",
+                "give `f_tadm`, `c_spec` and `belt_weight` for the width you use",
                 param="width",
             )
         for row in self.widths:

@@ -196,7 +196,7 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
             raise InputError(f"{z:g} is not allowed; a sprocket needs a whole number of teeth >= 3", param=key)
     if inp.teeth_large < inp.teeth_small:
         raise InputError(f"{inp.teeth_large} teeth: the large sprocket must have at least the {inp.teeth_small} "
-                         "teeth of --teeth", param="teeth_large")
+                         "teeth of `teeth`", param="teeth_large")
     require_range("service_factor", inp.service_factor, "", 1.0)
     require_range("design_factor", inp.design_factor, "", 1.0)
     require_positive("center_pitches", inp.center_pitches, "")
@@ -205,11 +205,11 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
     elif inp.torque is not None:
         power = require_positive("torque", inp.torque, "N*m") * inp.speed
     else:
-        raise InputError("give the power (--power) or the torque (--torque) on the small sprocket", param="power")
+        raise InputError("give the power (`power`) or the torque (`torque`) on the small sprocket", param="power")
     required = inp.design_factor * inp.service_factor * power
     candidates = tuple(check_chain(c, inp, power, required) for c in chains)
     if not candidates:
-        raise InputError("no chain to choose from (check --series and --strands)", param="series")
+        raise InputError("no chain to choose from (check `series` and `strands`)", param="series")
     best: dict[int, ChainCandidate] = {}
     for cand in sorted(candidates, key=lambda c: c.chain.pitch):
         if cand.carries and cand.chain.strands not in best:

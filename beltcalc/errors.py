@@ -11,17 +11,31 @@ into one line on stderr and an exit code at one place (``cli/main.py``):
 - :class:`OutputError`: an output file that cannot be written (exit 1);
 - :class:`SimulationError`: a solver failure (exit 1).
 
-An error may name the library parameter it is about (``param``). The library's
-parameter names are the command-line option names with ``_`` for ``-``, so the CLI
-can prefix the message with the option (``--center-distance: ...``). An error about a
-value of a scene (``scope="scene"``: a scene file's parameter, or a drive element's
-``ELEMENT.KEY``) names it as it is; the command line maps it to its option (``--set
-rollers: ...``) at its one error boundary.
+An error may name the library parameter it is about (``param``), and its message may
+point at other parameters written in backquotes (```max_events```). The library never
+names a command-line option: ``str(error)`` shows the library's names (``mass: ...``,
+"raise max_events"), and the command line maps every name to the option that sets it at
+its one error boundary (:func:`render`; ``--mass: ...``, "raise --max-events"). The
+library's parameter names are the option names with ``_`` for ``-``; a value of a scene
+(``scope="scene"``: a scene file's parameter, or a drive element's ``ELEMENT.KEY``) is
+mapped to ``--set NAME``.
 """
 
 from __future__ import annotations
 
 import math
+import re
+
+_REF = re.compile(r"`([A-Za-z_][A-Za-z0-9_.]*)`")
+
+
+def render(message: str, name=lambda n: n) -> str:
+    """``message`` with each backquoted parameter name replaced by ``name(it)``.
+
+    >>> render("raise `max_events`"), render("raise `max_events`", lambda n: "--" + n.replace("_", "-"))
+    ('raise max_events', 'raise --max-events')
+    """
+    return _REF.sub(lambda m: name(m.group(1)), message)
 
 
 class BeltcalcError(Exception):
@@ -36,11 +50,7 @@ class BeltcalcError(Exception):
         self.scope = scope      # None: a parameter of a library function; "scene": a scene's value
 
     def __str__(self) -> str:
-        if self.param and self.scope == "scene":
-            return f"{self.param}: {self.message}"
-        if self.param:
-            return f"--{self.param.replace('_', '-')}: {self.message}"
-        return self.message
+        return f"{self.param}: {render(self.message)}" if self.param else render(self.message)
 
 
 class InputError(BeltcalcError, ValueError):
@@ -84,7 +94,7 @@ def require_positive(param: str, value: float, unit: str) -> float:
     >>> require_positive("mass", -5.0, "kg")
     Traceback (most recent call last):
     ...
-    beltcalc.errors.InputError: --mass: -5 kg is not allowed; it must be > 0 kg
+    beltcalc.errors.InputError: mass: -5 kg is not allowed; it must be > 0 kg
     """
     return require_range(param, value, unit, low=0.0, low_open=True)
 
@@ -108,7 +118,7 @@ def require_range(
     >>> require_range("mu", 1.5, "", 0.0, 1.0, low_open=True, high_open=True)
     Traceback (most recent call last):
     ...
-    beltcalc.errors.InputError: --mu: 1.5 is not allowed; it must be in (0, 1)
+    beltcalc.errors.InputError: mu: 1.5 is not allowed; it must be in (0, 1)
     """
     bad_low = value <= low if low_open else value < low
     bad_high = value >= high if high_open else value > high

@@ -69,5 +69,5 @@ def gearbox(name: str, extra: Iterable[str | Path] = ()) -> Gearbox:
     table = load_gearboxes(extra)
     if name.strip().lower() in table:
         return table[name.strip().lower()]
-    known = ", ".join(sorted(g.name for g in table.values())) or "none (give --gearbox-catalog FILE)"
+    known = ", ".join(sorted(g.name for g in table.values())) or "none (give `gearbox_catalog`)"
     raise UnknownNameError(f"unknown gearbox {name!r}; the gearbox catalogs have {known}", param="gearbox")

@@ -114,7 +114,7 @@ def choose_motor(axis: BeltAxis, profile: Trapezoid, motors: list[Motor], effici
     if profile.peak_speed > fastest:
         raise InputError(
             f"{profile.peak_speed * 30 / math.pi:.0f} rpm at the motor is over every motor's "
-            f"maximum speed (the fastest runs {fastest * 30 / math.pi:.0f} rpm); lower --speed "
+            f"maximum speed (the fastest runs {fastest * 30 / math.pi:.0f} rpm); lower `speed` "
             "or the gear ratio",
             param="speed",
         )
@@ -212,5 +212,5 @@ def choose_for_cycle(drive: "Drive", segments: "Sequence[Segment]", motors: list
     if top > fastest:
         raise InputError(
             f"{top * 30 / math.pi:.0f} rpm at the motor is over every motor's maximum speed (the fastest "
-            f"runs {fastest * 30 / math.pi:.0f} rpm); lower --speed or the gear ratio", param="speed")
+            f"runs {fastest * 30 / math.pi:.0f} rpm); lower `speed` or the gear ratio", param="speed")
     return recommend(checks)

@@ -119,7 +119,7 @@ def parse_assignments(params: Sequence[Param], items: Iterable[str]) -> dict[str
     >>> parse_assignments([Param("C4", "N*m/rad", "stiffness")], ["C4=190"])
     Traceback (most recent call last):
     ...
-    beltcalc.errors.UsageError: --set: 'C4=190': '190' needs a unit, e.g. '190 N*m/rad'
+    beltcalc.errors.UsageError: set: 'C4=190': '190' needs a unit, e.g. '190 N*m/rad'
     """
     from beltcalc.errors import UsageError
     from beltcalc.units import QuantityError

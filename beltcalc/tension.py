@@ -94,7 +94,7 @@ def _catalog_value(given: float | None, row: BeltWidth | None, key: str, option:
     if value is None:
         raise InputError(
             f"{belt.name} at this width has no published {key} in {belt.source.path}; "
-            f"give it with --{option.replace('_', '-')}",
+            f"give it with `{option}`",
             param=option,
         )
     return value
@@ -104,7 +104,7 @@ def _damping(inp: TensionInputs, belt: BeltProfile, teeth: float) -> tuple[float
     if inp.damping is not None:
         if not (math.isfinite(inp.damping) and inp.damping >= 0):
             raise InputError(f"{inp.damping:g} N*s/m is not allowed; it must be >= 0 N*s/m", param="damping")
-        return inp.damping, "given (--damping)", None
+        return inp.damping, "given (damping)", None
     if belt.F_tspec:
         z_pulley = max(1, round(math.pi * inp.pulley_diameter / belt.pitch))
         z_e = bm.teeth_in_mesh(z_pulley, z_pulley, belt.pitch, inp.center_distance, belt.z_e_max)
@@ -117,7 +117,7 @@ def _damping(inp: TensionInputs, belt: BeltProfile, teeth: float) -> tuple[float
     if belt.damping is not None:
         return belt.damping, f"catalog value: {belt.damping_source or belt.source}", None
     raise InputError(
-        f"{belt.name} has no F_tspec(n) table and no damping value in its catalog; give --damping",
+        f"{belt.name} has no F_tspec(n) table and no damping value in its catalog; give `damping`",
         param="damping",
     )
 
@@ -165,8 +165,8 @@ def design_tension(inp: TensionInputs, belt: BeltProfile, thread: Thread) -> Ten
     if util > 1.0:
         warnings.append(
             f"belt overloaded: F_t,peak = {force:.1f} N is {util:.0%} of F_Tadm = {f_tadm:g} N "
-            f"for {belt.name} {inp.width * 1e3:g} mm; choose a wider belt (--select-width) "
-            "or lower --accel or --mass"
+            f"for {belt.name} {inp.width * 1e3:g} mm; choose a wider belt (`select_width`) "
+            "or lower `accel` or `mass`"
         )
     if span < 20 * belt.pitch:
         warnings.append(f"span {span * 1e3:g} mm is shorter than 20 pitches: a sonic tension "

@@ -130,7 +130,7 @@ def test_bad_inputs_name_the_parameter(args, param, unit):
     with pytest.raises(InputError) as exc:
         trapezoid(*args)
     assert exc.value.param == param
-    assert str(exc.value).startswith(f"--{param}: ")
+    assert str(exc.value).startswith(f"{param}: ")
     assert unit in str(exc.value)
 
 

@@ -396,7 +396,7 @@ def test_chattering_is_bounded_and_named():
     with pytest.raises(SimulationError) as info:
         simulate(net, 2.5, 2501, SolverConfig("exact", max_events=5, estimate_error=False))
     text = str(info.value)
-    assert "5 strand events" in text and "--max-events" in text and "exact" in text
+    assert "5 strand events" in text and "raise max_events" in text and "exact" in text
     named = [s.name for s in net.strands if f"strand {s.name} " in text]
     assert len(named) == 1, text
     reached = float(text.split("t = ")[1].split(" s")[0])

@@ -142,9 +142,9 @@ def test_a_strand_without_pretension_takes_up_from_rest():
 
 
 def test_chattering_is_bounded_and_named():
-    with pytest.raises(SimulationError, match=r"2 strand events.*strand s.*--max-events"):
+    with pytest.raises(SimulationError, match=r"2 strand events.*strand s.*raise max_events"):
         simulate(reversing(), 2.0, 2001, SolverConfig("exact", max_events=2, estimate_error=False))
-    with pytest.raises(SimulationError, match=r"2 strand events.*strand s.*--max-events"):
+    with pytest.raises(SimulationError, match=r"2 strand events.*strand s.*raise max_events"):
         simulate(reversing(), 2.0, 2001, SolverConfig("radau", max_events=2, estimate_error=False))
 
 

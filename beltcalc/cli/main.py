@@ -27,7 +27,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import click
 
 from beltcalc import __version__
-from beltcalc.errors import BeltcalcError, UsageError
+from beltcalc.errors import BeltcalcError, UsageError, render
 
 # name -> "module:attribute"; the module is imported only when the command runs.
 COMMANDS = {
@@ -49,13 +49,15 @@ def option_name(name: str) -> str:
 
 
 def error_line(exc: BeltcalcError, meta: dict) -> str:
-    """The one line of a library error, its parameter named as the option that sets it."""
+    """The one line of a library error, its parameter (and every parameter its message
+    names in backquotes) named as the option that sets it."""
+    message = render(exc.message, option_name)
     if not exc.param:
-        return exc.message
+        return message
     to_option = meta.get(SCENE_OPTION, option_name) if exc.scope == "scene" else option_name
     if isinstance(exc, UsageError):
-        return f"Invalid value for {to_option(exc.param)}: {exc.message}"
-    return f"{to_option(exc.param)}: {exc.message}"
+        return f"Invalid value for {to_option(exc.param)}: {message}"
+    return f"{to_option(exc.param)}: {message}"
 
 
 class _Failure(click.ClickException):

@@ -13,10 +13,11 @@ import json
 
 import click
 
-from beltcalc.cli.main import SCENE_OPTION
+from beltcalc.cli.main import SCENE_OPTION, option_name
 from beltcalc.cli.options import OutputPath, catalog_option, output_options
 from beltcalc.cli.output import (console, display_unit, display_value, format_number, print_table, progress,
                                  require_matplotlib, table_csv, write_atomic)
+from beltcalc.errors import render
 from beltcalc.report import Row, Section
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.base import Scene
@@ -72,6 +73,8 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
         _render_sweep(spec, result, as_json, csv_path, plot_path)
         return
     out = run_scene(spec, values, cfg, **options)
+    out.result.warnings[:] = [render(w, option_name) for w in out.result.warnings]
+    out.notes[:] = [render(n, option_name) for n in out.notes]
     for warning in out.result.warnings:
         click.echo(f"warning: {warning}", err=True)
     if csv_path is not None:

@@ -135,7 +135,7 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, s
     partition (the error estimate's second computation)."""
     if not network.linear:
         raise InputError("the exact method needs a network that is linear between switches; this one has "
-                         "loads locked to a shaft angle: use --method radau (or auto)", param="method")
+                         "loads locked to a shaft angle: use `method` radau (or auto)", param="method")
     if not network.smooth:
         out, steps, info = piecewise_exact(network, t, x0, cfg.max_events, scale, watch)
         return out, steps, 0, info
@@ -203,7 +203,7 @@ class _Switches:
             name = self.network.strands[strand].name
             raise SimulationError(
                 f"method {self.method}: {self.cfg.max_events} strand events by t = {t:.6g} s (strand {name} "
-                "chatters near zero tension); add pretension or damping, or raise --max-events")
+                "chatters near zero tension); add pretension or damping, or raise `max_events`")
         on = self.network.taut_after(strand, z, F @ z, _ahead(F, z, h), h)
         if on != self.taut[strand]:
             self.taut = tuple(on if k == strand else v for k, v in enumerate(self.taut))
@@ -266,7 +266,7 @@ def _ivp(name: str, uses_jac: bool):
             if sol.status < 0:
                 reached = sol.t[-1] if sol.t.size else t_cur
                 raise SimulationError(f"method {name.lower()} failed at t = {reached:.6g} s: {sol.message}; "
-                                      "try --method radau or bdf, or looser --rtol/--atol")
+                                      "try `method` radau or bdf, or looser `rtol`/`atol`")
             grid = [j for j, tt in enumerate(sol.t) if k + 1 + j <= last and abs(tt - t[k + 1 + j]) <= eps]
             for j in grid:
                 out[:, k + 1 + j] = sol.y[:, j]
@@ -329,7 +329,7 @@ def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
         reached = float(info["tcur"][-1]) if len(info["tcur"]) else t[0]
         reached = reached if 0 <= reached <= t[-1] else t[0]
         raise SimulationError(f"method odeint failed at t = {reached:.6g} s: {info['message']}; "
-                              "try --method radau, or looser --rtol/--atol")
+                              "try `method` radau, or looser `rtol`/`atol`")
     extra = {"jacobians": int(info["nje"][-1])}
     if network.strands:   # no events: the slack time from the samples
         taut = network.taut_of(y.T, t)
@@ -341,7 +341,7 @@ def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
 
 def _budget_message(method: str, reached: float, cfg: SolverConfig) -> str:
     return (f"method {method.lower()} stopped at t = {reached:.6g} s after {cfg.max_rhs_calls} right-hand-side "
-            "calls (the system is stiff for an explicit method, or switches too often?); try --method exact, "
+            "calls (the system is stiff for an explicit method, or switches too often?); try `method` exact, "
             "radau or bdf")
 
 
@@ -437,7 +437,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
                    f"{result.error_scale:.4g} {result.error_unit}, above the tolerance {cfg.error_tol:g}; "
                    f"tried {', '.join(tried)}")
         if not cfg.accept_error:
-            raise SimulationError(message + "; try another --method, a looser --error-tol, or --accept-error "
+            raise SimulationError(message + "; try another `method`, a looser `error_tol`, or `accept_error` "
                                   "to print it anyway", param="error_tol")
         result.extra["error_accepted"] = True
         result.warnings.append("accepted with a large error: " + message)
@@ -453,7 +453,7 @@ def _run(network, t, x0, cfg, method, reason, scale: float = 1.0, watch: tuple |
         x, steps, calls, extra = METHODS[method](network, t, x0, cfg)
     wall = time.perf_counter() - start
     if not np.all(np.isfinite(x)):
-        raise SimulationError(f"method {method} gave non-finite values; try another --method")
+        raise SimulationError(f"method {method} gave non-finite values; try another `method`")
     result = _outputs(network, t, x, method, reason, wall, steps, calls, extra)
     if spy is not None:
         result.extremes = spy.result

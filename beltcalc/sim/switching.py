@@ -787,7 +787,7 @@ class Run:
                 name = net.strands[mode.events[e].strand].name
                 raise SimulationError(
                     f"method {self.method}: {self.max_events} strand events by t = {t_new:.6g} s (strand {name} "
-                    "switches that often); add pretension or damping, or raise --max-events")
+                    "switches that often); add pretension or damping, or raise `max_events`")
             new = self.decide(z, taut, seg, [mode.events[e].strand])
             self._log(t_new, taut, new)
             taut, t_cur = new, t_new

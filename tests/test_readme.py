@@ -54,3 +54,12 @@ def test_first_block_runs_beltcalc_tension():
     assert len(first) == 1
     assert first[0].rstrip().endswith("beltcalc tension")
     assert "pip install ." in first[0]
+
+
+def test_python_examples_run_as_doctests():
+    import doctest
+
+    result = doctest.testfile(str(ROOT / "README.md"), module_relative=False,
+                              optionflags=doctest.NORMALIZE_WHITESPACE | doctest.ELLIPSIS)
+    assert result.attempted >= 15
+    assert result.failed == 0

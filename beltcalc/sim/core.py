@@ -545,7 +545,9 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
         if worst is None or rel > worst[0]:
             worst = (rel, k, name, unit, scale)
     result.errors = errors
-    result.error_relative, result.error_row, result.error_signal, result.error_unit, result.error_scale = worst
+    rel, row, signal, unit, scale = worst
+    result.error_relative, result.error_row, result.error_signal = float(rel), row, signal
+    result.error_unit, result.error_scale = unit, float(scale)
     result.error_estimate = errors[result.error_signal]
     result.error_reference = label
     result.error_reference_states = ref[worst[1]]

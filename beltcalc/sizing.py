@@ -19,6 +19,7 @@ from beltcalc.dutycycle import (Drive, Gearbox, Mounting, Regeneration, Segment,
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.motors import Choice, MotorCheck, check_cycle, check_motor, choose_for_cycle, choose_motor
 from beltcalc.params import Param
+from beltcalc.si import convert_fields
 from beltcalc.profiles import Trapezoid, move_by_time, scurve, trapezoid
 
 # The parameters of a belt axis and its move, as a scene file (wdu.toml) gives them.
@@ -89,6 +90,12 @@ class SizingInputs:
     pulley_inertia: float | None = None
     idler_inertia: float | None = None
     load_inertia: float = 0.0
+
+    def __post_init__(self):
+        # pint quantities: the units of PARAMS; speed and accel in the SI unit of their kind
+        units = {p.name: p.unit for p in PARAMS if p.unit not in (None, "int") and "|" not in p.unit}
+        convert_fields(self, {**units, "speed": self.speed_unit, "accel": self.accel_unit,
+                              "inertia_ratio_limit": "", "peak_margin": ""})
 
     @classmethod
     def from_values(cls, values: Mapping[str, object], substitute_mass_model: str = "eq7") -> SizingInputs:

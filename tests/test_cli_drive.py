@@ -169,3 +169,60 @@ def test_help_names_the_built_in_drives():
     out = ok(CliRunner().invoke(cli, ["simulate", "drive", "--help"])).stdout
     assert "ELEMENT.KEY" in out and "conveyor" in out
     assert math.isfinite(1.0)
+
+
+def test_roller_table_drive_file_is_the_scene_and_gives_its_figures():
+    # the shipped file is what the scene writes for its defaults (it cannot drift), and the
+    # file through `simulate drive` gives the scene's figures
+    import tomllib
+
+    from beltcalc.sim.drivefile import to_toml
+    from beltcalc.sim.scenes import SCENES
+    from beltcalc.sim.scenes.roller_table import drive_data
+
+    shipped = tomllib.loads((DRIVES / "roller_table.toml").read_text())
+    assert shipped == tomllib.loads(to_toml(drive_data(SCENES["roller-table"].values())))
+    scene = json.loads(ok(CliRunner().invoke(cli, ["simulate", "roller-table", "--json"])).stdout)
+    drive = json.loads(ok(run("roller_table", "--json")).stdout)
+    for k in ("1", "2", "3"):
+        assert drive["nodes"][f"end{k}a"]["speed_mean"]["value"] == pytest.approx(
+            scene["rollers"][k]["speed_mean"]["value"], rel=1e-9)
+        assert drive["couplings"][f"shaft{k}"]["torque_mean"]["value"] == pytest.approx(
+            scene["rollers"][k]["torque_drive_end_mean"]["value"], rel=1e-9)
+        assert drive["couplings"][f"tube{k}"]["torque_amplitude"]["value"] == pytest.approx(
+            scene["rollers"][k]["torque_far_end_amplitude"]["value"], rel=1e-9, abs=1e-9)
+    for name, strand in scene["strands"].items():
+        for key in ("force_min", "force_max", "slack_time", "safety"):
+            assert drive["strands"][name][key]["value"] == pytest.approx(strand[key]["value"], rel=1e-9, abs=1e-9)
+    assert drive["motors"]["M_motor"]["torque_mean"]["value"] == pytest.approx(
+        scene["motor"]["torque_mean"]["value"], rel=1e-9)
+
+
+def test_linear_axis_drive_file_is_the_scene():
+    # the shipped file is what the scene writes for the WDU axis, its first natural frequency
+    # is the scene's, and through `simulate drive` the motor torque and belt force are the
+    # scene's (the belt is a coupling with ratio 1/lever: its torque is lever x force)
+    import tomllib
+
+    import beltcalc
+    from beltcalc.sim.drivefile import to_toml
+    from beltcalc.sim.scenes import SCENES
+    from beltcalc.sim.scenes import linear_axis as la
+
+    values = SCENES["linear-axis"].values()
+    model = la.prepare_scene(values)[0]
+    data = la.drive_data(model)
+    t_end, samples = la.timing(values, model)
+    data["drive"].update(t_end=t_end, samples=samples, window=la.move_time(model))
+    shipped = tomllib.loads((DRIVES / "linear_axis.toml").read_text())
+    assert shipped == tomllib.loads(to_toml(data))
+    drive = beltcalc.load_drive("linear_axis")
+    assert drive.network.modes()[0][0] == pytest.approx(la.first_frequency(la.build(model)), rel=1e-12)
+    scene = json.loads(ok(CliRunner().invoke(cli, ["simulate", "linear-axis", "--json"])).stdout)
+    obj = json.loads(ok(run("linear_axis", "--json")).stdout)
+    assert obj["motors"]["T_drive_motor"]["torque_peak"]["value"] == pytest.approx(
+        scene["motor"]["torque_peak"]["value"], rel=1e-9)
+    r = beltcalc.simulate(drive)
+    force = r["T_belt"] / model.lever
+    assert float(force.max()) == pytest.approx(scene["belt"]["force_max"]["value"], rel=1e-9)
+    assert float(force.min()) == pytest.approx(scene["belt"]["force_min"]["value"], rel=1e-9)

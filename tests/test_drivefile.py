@@ -177,7 +177,10 @@ def test_belt_span_from_the_catalog_reproduces_tension_stiffness_and_the_two_mas
     r = pulley_pitch_diameter(30, belt.pitch) / 2
     c = d.network.couplings[0]
     assert c.C / r ** 2 == pytest.approx(k, rel=1e-14)
-    assert undamped_frequencies(d.network)[0] == pytest.approx(two_mass_frequency(2e-3, r, 20.0, k), rel=1e-12)
+    # half the span's mass (w_spec L) moves with each end: J + m L r^2 / 2 and m + m L / 2
+    half = row.w_spec * 1.2 / 2
+    assert undamped_frequencies(d.network)[0] == pytest.approx(
+        two_mass_frequency(2e-3 + half * r ** 2, r, 20.0 + half, k), rel=1e-12)
     # damping as `beltcalc tension` takes it: the AT10 catalog's b_TB = 20 N s/m (no F_tspec table)
     assert c.d / r ** 2 == pytest.approx(belt.damping, rel=1e-14)
     assert any("catalog value" in n for n in d.notes)

@@ -316,7 +316,8 @@ def linear_axis(belt_model, drive, substitute_mass_model, motor_name, catalog_pa
 @catalog_option
 def drive(file, catalog_paths, **kw):
     """Your own drive train from a drive file (TOML; docs/drive_files.md), or a built-in one
-    by name (conveyor, sewing, friswell_5_disks, friswell_geared): every node's speed, every
+    by name (conveyor, sewing, roller_table, linear_axis, friswell_5_disks, friswell_geared;
+    catalogs/drives/): every node's speed, every
     coupling's and shaft's torque, every strand's extremes, slack time and safety, every
     motor's torque. Any value is --set ELEMENT.KEY=QUANTITY, e.g. --set upper.pretension=300N,
     or swept: --sweep upper.pretension=200N:600N:5."""

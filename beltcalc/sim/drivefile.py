@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
 from beltcalc.errors import BeltcalcError, CatalogError, InputError
@@ -112,6 +113,8 @@ KEYS: dict[str, dict[str, Key]] = {
         "length": Key("m", "free strand length", True, low=">0"),
         "pretension": Key("N", "pretension F_0", low=">=0"),
         "stiffness": Key("N", "EA: the force per unit strain (chains publish none: the file must say)", True, low=">0"),
+        "mass": Key("kg/m", "mass per length, instead of the catalog's", low=">=0"),
+        "breaking_load": Key("N", "breaking load, instead of the catalog's", low=">0"),
         "damping": Key("N*s/m", "b", low=">=0"),
         "damping_time": Key("s", "stiffness-proportional damping b = beta c", low=">=0"),
     },
@@ -219,9 +222,11 @@ class DriveFile:
     ['t_end', 'samples', 'window', 'disk1.inertia']
     """
 
-    def __init__(self, path: str | Path):
+    def __init__(self, path: str | Path, data: dict | None = None):
         self.path = Path(path)
-        data = _read_toml(self.path)
+        self.generated = data is not None       # built in code: bare numbers are SI values
+        if data is None:
+            data = _read_toml(self.path)
         for key in data:
             if key not in SECTIONS:
                 self.fail(key, "", f"unknown section [{key}] / [[{key}]]; a drive file has "
@@ -243,13 +248,27 @@ class DriveFile:
                     self.fail(f"{section} {k}", "name", "must be a text without '.' or '='")
                 entry = Entry(section, name, k, raw)
                 self._check_keys(entry)
-                if name in names:
+                # names are unique, but a motor may take the name of the node it drives
+                if name in names and not (section == "motor" and names[name] == "node" and raw.get("node") == name):
                     self.fail(entry.where, "name", f"repeats the name of a {names[name]}; names are unique")
                 names[name] = section
                 self.entries.append(entry)
-        if not any(e.section == "node" for e in self.entries):
+        self.nodes = {e.name: e for e in self.entries if e.section == "node"}
+        if not self.nodes:
             self.fail("node", "", "a drive needs at least one [[node]]")
         self.names = names
+
+    @classmethod
+    def from_data(cls, data: dict, name: str) -> "DriveFile":
+        """A drive described in code (the parsed-TOML structure: ``{"drive": {...}, "node":
+        [...], ...}``) with SI floats allowed for every quantity; ``name`` stands for the
+        file in messages. Scenes whose layout depends on their parameters build this way.
+
+        >>> f = DriveFile.from_data({"drive": {"t_end": 1.0}, "node": [{"name": "a", "inertia": 2.0}]}, "demo")
+        >>> f.build().network.mass.tolist()
+        [2.0]
+        """
+        return cls(Path(name), data)
 
     def fail(self, where: str, key: str, message: str):
         """Raise the one-line error of this file."""
@@ -273,7 +292,7 @@ class DriveFile:
         if "|" not in unit or e.section not in ("coupling", "load", "motor"):
             return unit
         node = e.raw.get("between", [None])[0] if e.section == "coupling" else e.raw.get("node")
-        entry = next((n for n in self.entries if n.section == "node" and n.name == node), None)
+        entry = self.nodes.get(node) if isinstance(node, str) else None
         if entry is None:
             return unit
         translating = "mass" in entry.raw
@@ -297,15 +316,36 @@ class DriveFile:
         """The drive with ``values`` ({address: SI float, (float, unit), int or text}) instead
         of the file's. Every value is converted and checked; the first problem is one
         :class:`DriveFileError` naming the element and key."""
-        from beltcalc.sim.network import Network
+        values = self._known(values)
+        b, net = self._assemble(values, catalog)
+        t_end, samples, window = b.timing()
+        drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
+                      samples=samples, window=window, notes=b.notes, nodes=[n.name for n in net.nodes],
+                      torques=b.torques, spans=b.spans, limits=b.limits, motors=b.motor_signals,
+                      inputs=b.used)
+        if b.rigid:
+            drive.notes += _rigid_notes(self, values, catalog, net, b.rigid)
+        return drive
 
+    def network(self, values: dict | None = None, catalog=None):
+        """Only the :class:`~beltcalc.sim.network.Network` of the drive (no timing, no notes):
+        what a scene that writes its drive in code runs."""
+        return self._assemble(self._known(values), catalog)[1]
+
+    def _known(self, values: dict | None) -> dict:
         values = dict(values or {})
         known = {p.name for p in self.params()}
         for name in values:
             if name not in known:
                 raise InputError(f"{name!r} is not a value of this drive file ({self.path.name})", param=name,
                                  scope="scene")
-        b = _Builder(self, values, catalog)
+        return values
+
+    def _assemble(self, values: dict, catalog, flexible: bool = False):
+        """(the builder, the network) of ``values``; ``flexible`` keeps rigid couplings elastic."""
+        from beltcalc.sim.network import Network
+
+        b = _Builder(self, values, catalog, flexible)
         try:
             parts = b.elements()
         except BeltcalcError as exc:
@@ -318,14 +358,22 @@ class DriveFile:
                           speed_loops=parts["speed_loops"], gears=parts["gears"])
         except BeltcalcError as exc:
             raise DriveFileError(f"{self.path}: {exc.message}") from None
-        t_end, samples, window = b.timing()
-        drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
-                      samples=samples, window=window, notes=b.notes, nodes=[n.name for n in parts["nodes"]],
-                      torques=b.torques, spans=b.spans, limits=b.limits, motors=b.motor_signals,
-                      inputs=b.used)
-        if b.rigid:
-            drive.notes += _rigid_notes(self, values, catalog, net, b.rigid)
-        return drive
+        return b, net
+
+
+@lru_cache(maxsize=1)
+def _builtin_catalog():
+    """The built-in catalogs, read once per process (a sweep builds its drive many times)."""
+    from beltcalc.catalogs import load_catalog
+
+    return load_catalog()
+
+
+def _few(names: list[str], shown: int = 6) -> str:
+    """``a, b, c`` or ``a, b, ... and 12 more``."""
+    if len(names) <= shown:
+        return ", ".join(names)
+    return ", ".join(names[:shown]) + f" and {len(names) - shown} more"
 
 
 def _text(value) -> str | None:
@@ -348,14 +396,14 @@ class _Builder:
         self.motor_signals: list[tuple[str, str]] = []
         self.rigid: list[str] = []
         self.used: dict = {}
+        self.weighed: list[str] = []            # strands whose mass went to their end nodes
+        self.unweighed: list[str] = []          # strands whose catalog has no mass
         self.node_entries = {e.name: e for e in drive_file.entries if e.section == "node"}
 
     @property
     def catalog(self):
         if self._catalog is None:
-            from beltcalc.catalogs import load_catalog
-
-            self._catalog = load_catalog()
+            self._catalog = _builtin_catalog()
         return self._catalog
 
     # --- values ---------------------------------------------------------------------------
@@ -377,7 +425,7 @@ class _Builder:
         if key not in e.raw:
             return default
         try:
-            value = _convert(e.raw[key], Key(unit, spec.help))
+            value = _convert(e.raw[key], Key(unit, spec.help), si_numbers=self.f.generated)
         except (ValueError, TypeError) as exc:
             self.f.fail(e.where, key, str(exc))
         problem = _out_of_range(value, spec, unit)
@@ -397,7 +445,7 @@ class _Builder:
         if key not in e.raw:
             return None, None
         try:
-            return _convert(e.raw[key], spec, keep_unit=True)
+            return _convert(e.raw[key], spec, keep_unit=True, si_numbers=self.f.generated)
         except (ValueError, TypeError) as exc:
             self.f.fail(e.where, key, str(exc))
 
@@ -447,15 +495,18 @@ class _Builder:
     def elements(self) -> dict:
         parts = {k: [] for k in ("nodes", "couplings", "loads", "motors", "prescribed", "strands",
                                  "speed_loops", "gears")}
-        self.extra_inertia: dict[str, float] = {}
+        self.inertia: dict[str, float] = {}      # node -> its inertia, with the shares of shafts and strands
         self.radius: dict[str, float] = {}
         for e in self.f.entries:
             self.current = e.where
             getattr(self, f"_{e.section}")(e, parts)
         from beltcalc.sim.network import Inertia
 
-        parts["nodes"] = [Inertia(n.name, n.J + self.extra_inertia.get(n.name, 0.0), n.translation)
-                          for n in parts["nodes"]]
+        parts["nodes"] = [Inertia(n.name, self.inertia[n.name], n.translation) for n in parts["nodes"]]
+        if self.weighed:
+            self.notes.append(f"strand masses: half of each strand's mass to each end node ({_few(self.weighed)})")
+        if self.unweighed:
+            self.notes.append(f"strand masses not counted (the catalog has none; give mass): {_few(self.unweighed)}")
         return parts
 
     def _node(self, e: Entry, parts) -> None:
@@ -468,6 +519,7 @@ class _Builder:
         if not (value >= 0 and math.isfinite(value)):
             self.f.fail(e.where, "inertia" if mass is None else "mass", f"{value:g} is not allowed; it must be >= 0")
         parts["nodes"].append(Inertia(e.name, value, translation=mass is not None))
+        self.inertia[e.name] = value
         d = self.get(e, "pitch_diameter")
         teeth = self.get(e, "teeth")
         if d is None and teeth is not None:
@@ -538,7 +590,7 @@ class _Builder:
 
             J = cylinder_inertia(D, bore, L, rho)
             for node in (a, b):
-                self.extra_inertia[node] = self.extra_inertia.get(node, 0.0) + J / 2
+                self.inertia[node] += J / 2
             self.notes.append(f"shaft {e.name}: C = {C:.5g} N m/rad; its own inertia {J:.4g} kg m^2, half to "
                               f"{a} and half to {b}")
 
@@ -577,6 +629,7 @@ class _Builder:
             b, why = self._belt_damping(e, belt, width, length, i if r_i != 1.0 else j)
             self.notes.append(f"belt span {e.name}: k = C_spec / L = {k:.5g} N/m, b = {b:.4g} N s/m {why}")
         F0 = self.get(e, "pretension", 0.0)
+        self._strand_mass(e, (i, r_i), (j, r_j), row.w_spec, length)
         if row.F_Tadm:
             self.limits[e.name] = (row.F_Tadm, "F_Tadm")
         if e.raw.get("tension_only", True) is False:
@@ -609,11 +662,26 @@ class _Builder:
 
         (i, r_i), (j, r_j) = self._end_radius(e, "from"), self._end_radius(e, "to")
         chain = self.lookup(e, "chain", "chain")
-        c = strand_stiffness(self.need(e, "stiffness"), self.need(e, "length"))
+        length = self.need(e, "length")
+        c = strand_stiffness(self.need(e, "stiffness"), length)
         beta = self.get(e, "damping_time")
         b = self.get(e, "damping", 0.0) if beta is None else beta * c
         parts["strands"].append(Strand(e.name, i, j, r_i, r_j, c, b, self.get(e, "pretension", 0.0)))
-        self.limits[e.name] = (chain.breaking_load, "breaking load")
+        self.limits[e.name] = (self.get(e, "breaking_load", chain.breaking_load), "breaking load")
+        self._strand_mass(e, (i, r_i), (j, r_j), self.get(e, "mass", chain.mass), length)
+
+    def _strand_mass(self, e: Entry, end_i, end_j, per_length: float | None, length: float) -> None:
+        """Half the strand's mass m L moves with each end: inertia m L r^2 / 2 on a pulley or
+        sprocket of pitch radius r, mass m L / 2 on a translating node (Rusek & Popenda's
+        lumping of the chain's mass into the sprockets)."""
+        if per_length is None:
+            self.unweighed.append(e.name)
+            return
+        for node, r in (end_i, end_j):
+            translating = self.node_entries[node].raw.get("mass") is not None
+            share = per_length * length / 2 * (1.0 if translating else r ** 2)
+            self.inertia[node] += share
+        self.weighed.append(e.name)
 
     def _motor(self, e: Entry, parts) -> None:
         from beltcalc.sim.network import InductionMotor, Load, Prescribed, SpeedLoop
@@ -712,8 +780,10 @@ def _out_of_range(value, spec: Key, unit: str) -> str:
     return f"{value:g}{u} is not allowed; it must be {spec.low[0:-1]} 0{u}"
 
 
-def _convert(raw, spec: Key, keep_unit: bool = False):
-    """A raw TOML value as its SI value (ValueError with the reason otherwise)."""
+def _convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
+    """A raw TOML value as its SI value (ValueError with the reason otherwise). A bare number
+    is a plain number; for a quantity of a dimension it is refused (a file writes the unit),
+    unless ``si_numbers`` (a drive built in code, in SI)."""
     from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
 
     unit = spec.unit
@@ -735,13 +805,19 @@ def _convert(raw, spec: Key, keep_unit: bool = False):
             raise ValueError("must be a list of [time, value] pairs, e.g. [[\"0 s\", \"0 N*m\"], [\"1 s\", \"5 N*m\"]]")
         out = []
         for t, v in raw:
-            out.append((_convert(t, Key(x_unit, "")), _convert(v, Key(y_unit, ""))))
+            out.append((_convert(t, Key(x_unit, ""), si_numbers=si_numbers),
+                        _convert(v, Key(y_unit, ""), si_numbers=si_numbers)))
         times = [t for t, _ in out]
         if any(b < a for a, b in zip(times, times[1:])):
             raise ValueError("the times must rise (a time may repeat for a jump)")
         return tuple(out)
     if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
         raise ValueError(f"must be a quantity text such as '5 {unit.split('|')[0]}', not {raw!r}")
+    if not isinstance(raw, str) and unit not in ("", "1"):
+        if si_numbers:
+            value = float(raw)
+            return (value, unit.split("|")[0]) if keep_unit and "|" in unit else value
+        raise ValueError(f"{raw!r} needs its unit: write it as a text, e.g. \"{raw} {unit.split('|')[0]}\"")
     try:
         if "|" in unit:
             value, u = parse_quantity_any(raw, tuple(unit.split("|")))
@@ -770,13 +846,7 @@ def _rigid_notes(f: DriveFile, values: dict, catalog, rigid_net, names: list[str
     against the rigid one (the rigid drive has one mode fewer per rigid coupling)."""
     import numpy as np
 
-    from beltcalc.sim.network import Network
-
-    b = _Builder(f, values, catalog, flexible=True)
-    parts = b.elements()
-    flex = Network(parts["nodes"], parts["couplings"], parts["loads"], parts["motors"] or None,
-                   prescribed=parts["prescribed"], strands=parts["strands"], speed_loops=parts["speed_loops"],
-                   gears=parts["gears"])
+    flex = f._assemble(values, catalog, flexible=True)[1]
     f_flex, f_rigid = undamped_frequencies(flex), undamped_frequencies(rigid_net)
     removed = len(f_flex) - len(f_rigid)
     kept = f_flex[:len(f_rigid)]
@@ -802,6 +872,47 @@ def undamped_frequencies(net) -> list[float]:
     w2 = np.linalg.eigvalsh(net.K * s[:, None] * s[None, :])
     floor = 1e-9 * max(1.0, float(np.max(np.abs(w2)))) if w2.size else 0.0
     return sorted(float(math.sqrt(v)) / (2 * math.pi) for v in w2 if v > floor)
+
+
+def to_toml(data: dict, header: str = "") -> str:
+    """A drive described in code (:meth:`DriveFile.from_data`, SI floats) as drive-file text:
+    every quantity written with its SI unit (exact: ``repr`` of the float), ``header`` as
+    comment lines on top. Reading the text back builds the same drive.
+
+    >>> print(to_toml({"drive": {"t_end": 1.0}, "node": [{"name": "a", "inertia": 0.5}]}))
+    [drive]
+    t_end = "1.0 s"
+    <BLANKLINE>
+    [[node]]
+    name = "a"
+    inertia = "0.5 kg*m^2"
+    <BLANKLINE>
+    """
+    import json
+
+    f = DriveFile.from_data(data, "<data>")
+
+    def value(raw, unit: str) -> str:
+        if isinstance(raw, bool):
+            return "true" if raw else "false"
+        if unit in ("text", "names"):
+            return json.dumps(raw)
+        if unit.startswith("table:"):
+            x, y = unit[6:].split(",")
+            return "[" + ", ".join(f"[{value(t, x)}, {value(v, y)}]" for t, v in raw) + "]"
+        if unit in ("", "int") or isinstance(raw, str):
+            return json.dumps(raw) if isinstance(raw, str) else repr(raw)
+        return json.dumps(f"{float(raw)!r} {unit.split('|')[0]}")
+
+    lines = [f"# {line}".rstrip() for line in header.splitlines()]
+    if lines:
+        lines.append("")
+    lines.append("[drive]")
+    lines += [f"{k} = {value(v, KEYS['drive'][k].unit)}" for k, v in f.head.raw.items()]
+    for e in f.entries:
+        lines += ["", f"[[{e.section}]]"]
+        lines += [f"{k} = {value(v, f.unit(e, k))}" for k, v in e.raw.items()]
+    return "\n".join(lines) + "\n"
 
 
 def drive_names() -> list[str]:

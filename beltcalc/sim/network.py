@@ -71,6 +71,13 @@ class Event:
     row: np.ndarray
 
 
+def _add_outer(M: np.ndarray, g: np.ndarray, c: float) -> None:
+    """M += c g g^T on the nonzero entries of g only (a coupling touches two coordinates)."""
+    if c:
+        idx = np.flatnonzero(g)
+        M[np.ix_(idx, idx)] += c * np.outer(g[idx], g[idx])
+
+
 class Piece:
     """What elements write into ``[A | B]`` of ``x' = A x + B g`` on one time piece (the one
     holding ``t_mid``): torques ``a + c t`` and sinusoids on a node (taken to its coordinate
@@ -131,6 +138,7 @@ class Network:
         if len(set(names)) != len(names):
             raise InputError(f"node names repeat: {names}", param="network")
         self._node = {n.name: n for n in self.nodes}
+        self._row_of = {n.name: k for k, n in enumerate(self.nodes)}
         for nd in self.nodes:
             if nd.J != 0:
                 require_positive(f"J_{nd.name}", nd.J, "kg*m^2")
@@ -295,7 +303,7 @@ class Network:
 
     def node_row(self, name: str) -> np.ndarray:
         """The row over the coordinates that gives node ``name``'s angle (position)."""
-        return self.T[self.nodes.index(self._node[name])]
+        return self.T[self._row_of[name]]
 
     def coord(self, name: str) -> tuple[int, float]:
         """(coordinate, factor) of a node with inertia: phi_node = factor * q[coordinate]."""
@@ -370,10 +378,8 @@ class Network:
         D = np.zeros((n, n))
         for el in self.elements:
             for g, C, d in el.matrices(self):
-                if C:
-                    K += C * np.outer(g, g)
-                if d:
-                    D += d * np.outer(g, g)
+                _add_outer(K, g, C)
+                _add_outer(D, g, d)
         return K, D
 
     def stiffness_damping(self, taut: tuple[bool, ...]) -> tuple[np.ndarray, np.ndarray]:
@@ -381,8 +387,8 @@ class Network:
         K, D = self._K0.copy(), self._D0.copy()
         for k, (s, on) in enumerate(zip(self.strands, taut)):
             if on:
-                K += s.stiffness * np.outer(self._G[k], self._G[k])
-                D += s.damping * np.outer(self._G[k], self._G[k])
+                _add_outer(K, self._G[k], s.stiffness)
+                _add_outer(D, self._G[k], s.damping)
         return K, D
 
     # --- first-order form -------------------------------------------------------------------

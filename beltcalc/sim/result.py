@@ -90,6 +90,7 @@ class SimResult:
             mean = float((cum[b] - cum[a]) / (self.t[b] - self.t[a]))
         if (end is None or end >= self.t[-1]) and (name, float(start)) in self.extremes:
             lo, hi = self.extremes[(name, float(start))]
+        mean = min(max(mean, lo), hi)    # a mean lies within the extremes (rounding can put it outside)
         return Summary(mean, 0.5 * (hi - lo), float(np.sqrt(np.mean(y * y))), lo, hi)
 
     def settle_time(self, name: str, target: float, band: float, start: float = 0.0,

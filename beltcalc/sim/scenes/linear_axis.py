@@ -28,7 +28,7 @@ from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
 from beltcalc.profiles import Trapezoid
 from beltcalc.report import Row, Section
-from beltcalc.sim.network import Coupling, Inertia, Load, Network, Prescribed, SpeedLoop
+from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import Outcome, Scene, scene_values
 from beltcalc.sizing import PARAMS as AXIS_PARAMS
 
@@ -138,42 +138,57 @@ def reference_position(model: AxisModel, t: np.ndarray) -> np.ndarray:
     return out * model.lever
 
 
-def build(model: AxisModel, substitute_mass: float | None = None, stiffness: float | None = None) -> Network:
-    """The network: the motor side, the belt (substitute or chain), the carriage.
+def drive_data(model: AxisModel, substitute_mass: float | None = None, stiffness: float | None = None) -> dict:
+    """The drive (the structure of a drive file, SI floats): the motor side, the belt
+    (substitute or chain), the carriage, the move. Its values come from `motor-size`'s
+    sizing of the axis, so the scene writes the drive rather than reading one file;
+    ``catalogs/drives/linear_axis.toml`` is this drive for the WDU scene.
 
     ``substitute_mass`` / ``stiffness`` override m_TB / k_TB (the model comparisons)."""
     model.check()
     ax, lever = model.axis, model.lever
     k = model.stiffness if stiffness is None else stiffness
     b = model.damping
-    nodes = [Inertia("motor", model.rotating_inertia)]
-    couplings = [Coupling("bearings", "motor", None, 0.0, model.rotating_damping)]
+    nodes = [dict(name="motor", inertia=model.rotating_inertia)]
+    couplings = [dict(name="bearings", between=["motor"], stiffness=0.0, damping=model.rotating_damping)]
     if model.belt_model == "substitute":
         m_tb = ax.substitute_mass if substitute_mass is None else substitute_mass
-        nodes.append(Inertia("carriage", ax.mass + m_tb, translation=True))
+        nodes.append(dict(name="carriage", mass=ax.mass + m_tb))
         # C (phi - U x) with C = k lever^2, U = 1 / lever: the torque lever * F
-        couplings.append(Coupling("belt", "motor", "carriage", k * lever ** 2, b * lever ** 2, 1.0 / lever))
+        couplings.append(dict(name="belt", between=["motor", "carriage"], stiffness=k * lever ** 2,
+                              damping=b * lever ** 2, ratio=1.0 / lever))
     else:
         n = model.chain_units
         unit_mass = model.belt_mass / n
         kk, bb = n * k, n * b                 # eq. 8-9: k' = (z - 1) k_TB, b' = (z - 1) b_TB
         names = [f"tooth{j}" for j in range(2, n + 1)] + ["carriage"]
-        for name in names[:-1]:
-            nodes.append(Inertia(name, unit_mass, translation=True))
-        nodes.append(Inertia("carriage", ax.mass + unit_mass, translation=True))
-        couplings.append(Coupling("belt", "motor", names[0], kk * lever ** 2, bb * lever ** 2, 1.0 / lever))
-        for a, c in zip(names, names[1:]):
-            couplings.append(Coupling(f"belt_{a}", a, c, kk, bb))
+        nodes += [dict(name=name, mass=unit_mass) for name in names[:-1]]
+        nodes.append(dict(name="carriage", mass=ax.mass + unit_mass))
+        couplings.append(dict(name="belt", between=["motor", names[0]], stiffness=kk * lever ** 2,
+                              damping=bb * lever ** 2, ratio=1.0 / lever))
+        couplings += [dict(name=f"belt_{a}", between=[a, c], stiffness=kk, damping=bb)
+                      for a, c in zip(names, names[1:])]
     if ax.guide_damping:
-        couplings.append(Coupling("guide", "carriage", None, 0.0, ax.guide_damping))
+        couplings.append(dict(name="guide", between=["carriage"], stiffness=0.0, damping=ax.guide_damping))
     t_move = move_time(model)
     resist = ax.resistance_torque / lever       # F_R + mu m g, against the move
-    loads = [Load("carriage", table=((0.0, resist), (t_move, resist), (t_move, 0.0)))] if resist else []
+    loads = [dict(name="resistance", node="carriage", table=[[0.0, resist], [t_move, resist], [t_move, 0.0]])
+             ] if resist else []
     accel, speed, torque = reference_tables(model)
     if model.drive == "prescribed":
-        return Network(nodes, couplings, loads, prescribed=[Prescribed("motor", 0.0, accel)])
-    loop = SpeedLoop("motor", model.speed_gain, speed, torque)
-    return Network(nodes, couplings, loads, speed_loops=[loop])
+        motor = dict(name="servo", kind="prescribed", node="motor", speed=0.0, accel=[list(p) for p in accel])
+    else:
+        motor = dict(name="servo", kind="speed_loop", node="motor", gain=model.speed_gain,
+                     reference=[list(p) for p in speed], feedforward=[list(p) for p in torque])
+    return {"drive": {"title": "Timing-belt linear axis (Wojtkowiak et al. 2021, WDU axis)", "t_end": t_move},
+            "node": nodes, "coupling": couplings, "motor": [motor], "load": loads}
+
+
+def build(model: AxisModel, substitute_mass: float | None = None, stiffness: float | None = None) -> Network:
+    """The network of :func:`drive_data`, built by the drive-file builder."""
+    from beltcalc.sim.drivefile import DriveFile
+
+    return DriveFile.from_data(drive_data(model, substitute_mass, stiffness), "linear axis").network()
 
 
 def belt_force(model: AxisModel, torque: np.ndarray) -> np.ndarray:

@@ -24,12 +24,12 @@ from __future__ import annotations
 
 import math
 
-from beltcalc.chain import load_split, placement_factor, sprocket_pitch_diameter, strand_stiffness, torsional_stiffness
+from beltcalc.chain import load_split, placement_factor, sprocket_pitch_diameter, torsional_stiffness
 from beltcalc.drive import cylinder_inertia
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
 from beltcalc.report import Row, Section
-from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network, Strand, series_stiffness
+from beltcalc.sim.network import Network, series_stiffness
 from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values, strand_sections
 
 ROUTINGS = ("serpentine", "loops")
@@ -146,12 +146,16 @@ def strands(p: dict) -> list[tuple[str, str, str, float, float]]:
     return out
 
 
-def build(p: dict) -> Network:
-    """The network of the scene's parameters ``p`` (SI floats and texts, keys as in roller_table.toml)."""
+def drive_data(p: dict) -> dict:
+    """The drive (the structure of a drive file, SI floats) of the scene's parameters ``p``:
+    its layout depends on ``rollers`` and ``routing``, so the scene writes it rather than
+    reading one file. ``catalogs/drives/roller_table.toml`` is this drive for the default
+    parameters (three rollers). The chain strands' mass goes half to each sprocket, as the
+    drive-file builder does for every strand."""
     check(p)
     n = int(p["rollers"])
-    beta, beta_chain = p["damping_time"], p["chain_damping_time"]
-    radius = {"drive": sprocket_pitch_diameter(p["chain_pitch"], int(p["drive_teeth"])) / 2}
+    beta = p["damping_time"]
+    pitch_d = {"drive": sprocket_pitch_diameter(p["chain_pitch"], int(p["drive_teeth"]))}
     J = {
         "motor": p["motor_inertia"] + p["coupling_inertia"] / 2,
         "gear": (p["coupling_inertia"] / 2 + p["gear_input_inertia"] + p["gear_middle_inertia"] / p["stage1_ratio"] ** 2
@@ -160,7 +164,7 @@ def build(p: dict) -> Network:
     }
     roller = roller_inertia(p)
     for k in range(1, n + 1):
-        radius[f"sprocket{k}"] = sprocket_pitch_diameter(p["chain_pitch"], int(p["roller_teeth"])) / 2
+        pitch_d[f"sprocket{k}"] = sprocket_pitch_diameter(p["chain_pitch"], int(p["roller_teeth"]))
         J[f"sprocket{k}"] = sprocket_inertia(p, int(p["roller_teeth"])) * (2 if p["routing"] == "loops" and k < n else 1)
         J[f"end{k}a"] = J[f"end{k}b"] = roller / 2
     routing = strands(p)
@@ -168,11 +172,9 @@ def build(p: dict) -> Network:
         for node in (a, b):
             if node.startswith("idler") and node not in J:
                 J[node] = p["idler_inertia"]
-                radius[node] = sprocket_pitch_diameter(p["chain_pitch"], int(p["idler_teeth"])) / 2
-    for name, a, b, length in routing:      # half of each strand's mass on either sprocket
-        for node in (a, b):
-            J[node] += p["chain_mass"] * length / 2 * radius[node] ** 2
-    nodes = [Inertia(name, value) for name, value in J.items()]
+                pitch_d[node] = sprocket_pitch_diameter(p["chain_pitch"], int(p["idler_teeth"]))
+    nodes = [dict(name=name, inertia=value, **({"pitch_diameter": pitch_d[name]} if name in pitch_d else {}))
+             for name, value in J.items()]
 
     c23 = series_stiffness(p["output_shaft_stiffness"], p["clutch_stiffness"])
     c_shaft = torsional_stiffness(p["shaft_diameter"], 0.0, p["shaft_length"], p["shear_modulus"])
@@ -180,18 +182,20 @@ def build(p: dict) -> Network:
                                  p["roller_length"], p["shear_modulus"])
     ratio = p["stage1_ratio"] * p["stage2_ratio"]
     couplings = [
-        Coupling("coupling", "motor", "gear", p["coupling_stiffness"], p["coupling_damping"]),
+        dict(name="coupling", between=["motor", "gear"], stiffness=p["coupling_stiffness"],
+             damping=p["coupling_damping"]),
         # output shaft + clutch: C (phi_drive - phi_gear / i), the reducer's output angle
-        Coupling("clutch", "drive", "gear", c23, beta * c23, 1.0 / ratio),
+        dict(name="clutch", between=["drive", "gear"], stiffness=c23, damping=beta * c23, ratio=1.0 / ratio),
     ]
     for k in range(1, n + 1):
-        couplings.append(Coupling(f"shaft{k}", f"sprocket{k}", f"end{k}a", c_shaft, beta * c_shaft))
-        couplings.append(Coupling(f"tube{k}", f"end{k}a", f"end{k}b", c_tube, beta * c_tube))
-    chain = []
-    for name, a, b, length in routing:
-        c = strand_stiffness(p["chain_stiffness"], length)
-        chain.append(Strand(name, a, b, radius[a], radius[b], c, beta_chain * c, p["pretension"]))
-
+        couplings.append(dict(name=f"shaft{k}", between=[f"sprocket{k}", f"end{k}a"], stiffness=c_shaft,
+                              damping=beta * c_shaft))
+        couplings.append(dict(name=f"tube{k}", between=[f"end{k}a", f"end{k}b"], stiffness=c_tube,
+                              damping=beta * c_tube))
+    chain = [dict(name=name, **{"from": a, "to": b}, chain="10B-1", length=length, pretension=p["pretension"],
+                  stiffness=p["chain_stiffness"], damping_time=p["chain_damping_time"], mass=p["chain_mass"],
+                  breaking_load=p["chain_breaking_load"])
+             for name, a, b, length in routing]
     near, far = load_split(placement_factor(p["element_offset"], p["element_width"], p["roller_length"]),
                            p["element_width"], p["roller_length"])
     loads = []
@@ -199,13 +203,25 @@ def build(p: dict) -> Network:
     for k in range(1, n + 1):
         for end, share in (("a", near), ("b", far)):
             mean = share * p["roller_load"]
-            table = ((t0, 0.0), (t0, mean)) if t0 > 0 else ()
-            loads.append(Load(f"end{k}{end}", 0.0 if table else mean, share * p["load_amplitude"],
-                              p["load_frequency"], table=table, start=t0))
-    w0 = synchronous_speed(p)
-    motor = InductionMotor("motor", p["breakdown_factor"] * p["rated_torque"], p["breakdown_slip"], w0,
-                           2 * math.pi * p["supply_frequency"], sync_table=((0.0, 0.0), (p["ramp_time"], w0)))
-    return Network(nodes, couplings, loads, motor, strands=chain)
+            load = dict(name=f"load_end{k}{end}", node=f"end{k}{end}", torque=0.0 if t0 > 0 else mean,
+                        amplitude=share * p["load_amplitude"], frequency=p["load_frequency"], start=t0)
+            if t0 > 0:
+                load["table"] = [[t0, 0.0], [t0, mean]]
+            loads.append(load)
+    motor = dict(name="motor", kind="induction", node="motor", rated_torque=p["rated_torque"],
+                 breakdown_factor=p["breakdown_factor"], breakdown_slip=p["breakdown_slip"],
+                 supply=p["supply_frequency"], pole_pairs=int(p["pole_pairs"]), ramp=p["ramp_time"])
+    return {"drive": {"title": "Roller table with chain transmission (Rusek & Popenda)", "t_end": p["t_end"],
+                      "samples": int(p["samples"]), "window": p["window"]},
+            "node": nodes, "coupling": couplings, "chain_strand": chain, "motor": [motor], "load": loads}
+
+
+def build(p: dict) -> Network:
+    """The network of the scene's parameters ``p`` (SI floats and texts, keys as in
+    roller_table.toml), built from :func:`drive_data` by the drive-file builder."""
+    from beltcalc.sim.drivefile import DriveFile
+
+    return DriveFile.from_data(drive_data(p), "roller table").network()
 
 
 def run(values: dict, cfg) -> Outcome:

@@ -137,6 +137,21 @@ def parse_assignments(params: Sequence[Param], items: Iterable[str]) -> dict[str
     return out
 
 
+def linspace(start: float, stop: float, n: int) -> list[float]:
+    """``n`` evenly spaced values from ``start`` to ``stop`` inclusive.
+
+    >>> linspace(0.0, 1.0, 3)
+    [0.0, 0.5, 1.0]
+    """
+    from beltcalc.errors import InputError
+
+    if n < 1:
+        raise InputError(f"{n} points; a sweep needs at least 1", param="sweep")
+    if n == 1:
+        return [start]
+    return [start + (stop - start) * k / (n - 1) for k in range(n)]
+
+
 def _names_hint(name: str, names: list[str]) -> str:
     """``NAME one of a, b, c`` for a few names; for many (a drive file's ELEMENT.KEY values)
     the closest ones and how many there are.
@@ -164,8 +179,6 @@ def sweep_points(params: Sequence[Param], text: str, example: str = "") -> tuple
     ('C4', [50.0, 180.0, 310.0])
     """
     from beltcalc.errors import UsageError
-    from beltcalc.sizing import linspace
-
     name, sep, rng = text.partition("=")
     parts = rng.split(":")
     if not sep or len(parts) != 3:

@@ -216,15 +216,6 @@ def sweep(inp: SizingInputs, belt: BeltProfile, motor: Motor | None, name: str,
     return rows
 
 
-def linspace(start: float, stop: float, n: int) -> list[float]:
-    """``n`` evenly spaced values from ``start`` to ``stop`` inclusive."""
-    if n < 1:
-        raise InputError(f"{n} points; a sweep needs at least 1", param="sweep")
-    if n == 1:
-        return [start]
-    return [start + (stop - start) * k / (n - 1) for k in range(n)]
-
-
 def energy_eq29_closed_form(inertia: float, damping: float, resistance_torque: float,
                             speed: float, accel: float) -> float:
     r"""Eq. 29 with these models, in closed form [J].

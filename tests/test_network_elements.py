@@ -139,3 +139,27 @@ def test_angle_locked_load_of_order_two_has_its_jacobian():
     fd = (net.nonlinear_terms(0.0, x + [h, 0.0]) - net.nonlinear_terms(0.0, x - [h, 0.0])) / (2 * h)
     assert jac[1, 0] == pytest.approx(fd[1], rel=1e-7)
     assert jac[1, 0] == pytest.approx(-0.7 * 2.0 * math.cos(2.0 * 0.4 + 0.3) / 0.5, rel=1e-14)
+
+
+def test_a_new_element_kind_plugs_in_through_elements_alone():
+    # a constant-torque brake on a node, as a kind of its own: its hooks are all the network
+    # calls; a 1-DOF inertia decelerates at T / J from its initial speed (x0)
+    from dataclasses import dataclass
+
+    from beltcalc.sim.elements import Element
+
+    @dataclass(frozen=True)
+    class Brake(Element):
+        node: str
+        torque: float
+
+        def inputs(self, piece):
+            piece.torque(self.node, -self.torque)
+
+        def outputs(self, net, t, X, dX):
+            return {f"T_brake_{self.node}": (np.full(np.shape(t), self.torque), "N m")}
+
+    net = Network([Inertia("w", 0.5)], [], elements=[Brake("w", 2.0)])
+    r = simulate(net, 1.0, 11, SolverConfig("exact"), x0=np.array([0.0, 10.0]))
+    np.testing.assert_allclose(r["omega_w"], 10.0 - 2.0 / 0.5 * r.t, rtol=1e-13)
+    np.testing.assert_allclose(r["T_brake_w"], 2.0, rtol=0)

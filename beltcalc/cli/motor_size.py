@@ -19,7 +19,8 @@ def _sweep_spec(text: str | None):
     """``accel=100rad/s^2:1000rad/s^2:10`` -> (name, [values], unit)."""
     if text is None:
         return None
-    from beltcalc.sizing import SWEEPABLE, linspace
+    from beltcalc.params import linspace
+    from beltcalc.sizing import SWEEPABLE
     from beltcalc.units import QuantityError, parse_quantity_any
 
     units = {"accel": ("rad/s^2", "m/s^2"), "speed": ("rad/s", "m/s")}

@@ -1,7 +1,10 @@
 """The element kinds of a drive train. Each kind stamps itself: it checks its own values,
 adds its own rows to the network's matrices and inputs, and names its own outputs. A
-:class:`~beltcalc.sim.network.Network` only loops over its elements; adding a kind touches
-this module (and the drive-file reader), nothing else. SI floats only; no pint, no click.
+:class:`~beltcalc.sim.network.Network` only loops over its elements (a new kind goes in its
+``elements`` list); adding a kind touches this module, and the drive-file reader if files
+are to name it (``KEYS`` and a ``_<section>`` method in :mod:`beltcalc.sim.drivefile`).
+Tension-only strands are the one kind the switching core handles itself. SI floats only; no
+pint, no click.
 
 The hooks an element may define (all optional, see :class:`Element`):
 
@@ -15,19 +18,21 @@ The hooks an element may define (all optional, see :class:`Element`):
 - ``tables()``, ``breaks()``: its piecewise-linear inputs and switch-on times (they split
   the run into time pieces);
 - ``frequencies()``: its sinusoid frequencies in time [rad/s] (input generators);
-- ``nonlinear(net, t, X, out, constrained)`` / ``jacobian(net, x, jac)``: what the linear
-  form cannot take (loads locked to a shaft angle);
+- ``nonlinear_kind``, ``nonlinear(net, t, X, out, constrained)``, ``jacobian(net, x, jac)``:
+  what the linear form cannot take (loads locked to a shaft angle), which sends the run to
+  an implicit solver with this analytic Jacobian;
 - ``outputs(net, t, X, dX)``: ``{signal: (array, SI unit)}``.
 
 Pint quantities are accepted wherever an element takes an SI float: they are converted to
-the SI unit the field documents (``Inertia(name, J=Q_(3.5, "g*m^2"))``), and a quantity of
-the wrong dimension is refused with a message naming the field.
+the SI unit the kind's ``UNITS`` gives the field (``Inertia(name, J=Q_(3.5, "g*m^2"))``), and
+a quantity of the wrong dimension is refused with a message naming the field.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -36,22 +41,28 @@ from beltcalc.si import convert_fields
 
 Points = tuple[tuple[float, float], ...]
 
-#: SI unit of each float field that may arrive as a pint quantity (None: SI base units of
-#: its own dimension, for fields that are a torque or a force by the node they act on)
-_UNITS = {
-    "J": None, "C": None, "d": None, "U": "", "r_i": "m", "r_j": "m", "stiffness": "N/m", "damping": "N*s/m",
-    "preload": "N", "mean": None, "amplitude": None, "omega": "rad/s", "phase": "rad", "start": "s",
-    "speed": None, "gain": None, "breakdown_torque": "N*m", "breakdown_slip": "", "sync_speed": "rad/s",
-    "supply": "rad/s", "ratio": None, "order": "",
-}
-
-
 class Element:
     """Base of every element kind: converts pint quantities on construction (frozen
-    dataclasses: ``object.__setattr__``) and gives every hook a do-nothing default."""
+    dataclasses: ``object.__setattr__``) by the kind's ``UNITS`` (field -> SI unit; None:
+    SI base units of the quantity's own dimension, for a torque or a force by the node it
+    acts on), and gives every hook a do-nothing default."""
+
+    UNITS: ClassVar[dict[str, str | None]] = {}
 
     def __post_init__(self):
-        convert_fields(self, _UNITS)
+        convert_fields(self, self.UNITS)
+
+    @property
+    def nonlinear_kind(self) -> bool:
+        """True when the element's terms are not linear in the state (then :meth:`nonlinear`
+        and :meth:`jacobian` give them and the core uses an implicit solver)."""
+        return False
+
+    def nonlinear(self, net, t, X, out, constrained: bool) -> None:
+        """Add the element's nonlinear terms of x' at states ``X`` (columns) to ``out``."""
+
+    def jacobian(self, net, x, jac) -> None:
+        """Add d(nonlinear terms)/dx at the state ``x`` to ``jac``."""
 
     def check(self, net) -> None:
         """Refuse impossible values."""
@@ -145,6 +156,8 @@ class Inertia(Element):
     J: float
     translation: bool = False
 
+    UNITS: ClassVar[dict] = {"J": None}
+
 
 @dataclass(frozen=True)
 class Gear(Element):
@@ -156,6 +169,8 @@ class Gear(Element):
     b: str
     ratio: float
     name: str = ""
+
+    UNITS: ClassVar[dict] = {"ratio": None}
 
     def check(self, net) -> None:
         require_positive(f"{self.name or 'gear'} ratio", self.ratio, "")
@@ -177,6 +192,8 @@ class Coupling(Element):
     C: float
     d: float
     U: float = 1.0
+
+    UNITS: ClassVar[dict] = {"C": None, "d": None, "U": ""}
 
     def check(self, net) -> None:
         net.check_ends(self.name, self.i, self.j)
@@ -220,6 +237,8 @@ class Strand(Element):
     damping: float
     preload: float = 0.0
 
+    UNITS: ClassVar[dict] = {"r_i": "m", "r_j": "m", "stiffness": "N/m", "damping": "N*s/m", "preload": "N"}
+
     def check(self, net) -> None:
         net.check_ends(self.name, self.i, self.j)
         for end in (self.i, self.j):
@@ -261,6 +280,13 @@ class Load(Element):
     start: float = 0.0
     order: float = 1.0
 
+    UNITS: ClassVar[dict] = {"mean": None, "amplitude": None, "omega": "rad/s", "phase": "rad", "start": "s",
+                             "order": ""}
+
+    @property
+    def nonlinear_kind(self) -> bool:
+        return self.in_angle
+
     def check(self, net) -> None:
         net.check_ends("a load", self.node, None)
         net.require_inertia(self.node, "a load")
@@ -295,7 +321,7 @@ class Load(Element):
         else:  # omega = 0: a constant amplitude * sin(phase)
             p.torque(self.node, -self.amplitude * math.sin(self.phase))
 
-    def nonlinear(self, net, t, X, out, constrained) -> None:
+    def nonlinear(self, net, t, X, out, constrained: bool) -> None:
         if not self.in_angle:
             return
         c, f = net.coord(self.node)
@@ -327,6 +353,8 @@ class Prescribed(Element):
     speed: float = 0.0
     accel: Points = ()
 
+    UNITS: ClassVar[dict] = {"speed": None}
+
     def check(self, net) -> None:
         net.check_ends("prescribed motion", self.node, None)
         net.require_inertia(self.node, "prescribed motion")
@@ -352,6 +380,8 @@ class SpeedLoop(Element):
     gain: float
     reference: Points
     feedforward: Points = ()
+
+    UNITS: ClassVar[dict] = {"gain": None}
 
     def check(self, net) -> None:
         net.check_ends("a speed loop", self.node, None)
@@ -404,6 +434,9 @@ class InductionMotor(Element):
     supply: float
     sync_table: Points = ()
     name: str = "motor"
+
+    UNITS: ClassVar[dict] = {"breakdown_torque": "N*m", "breakdown_slip": "", "sync_speed": "rad/s",
+                             "supply": "rad/s"}
 
     def check(self, net) -> None:
         net.check_ends(f"motor {self.name}", self.node, None)

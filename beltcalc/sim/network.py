@@ -113,7 +113,9 @@ class Piece:
 @dataclass
 class Network:
     """Nodes and elements (couplings, rigid gears, strands, loads, drives), assembled into the
-    matrices of the first-order system. ``motor`` is one :class:`InductionMotor` or a list.
+    matrices of the first-order system. ``motor`` is one :class:`InductionMotor` or a list;
+    ``elements`` takes any other element kind (:class:`~beltcalc.sim.elements.Element`):
+    the network only calls the hooks every kind has.
 
     Generalised coordinates: every rigid gear group (nodes joined by :class:`Gear`) is one
     coordinate, the angle of its first node; a node's angle is ``node_row(name) . q``.
@@ -132,6 +134,7 @@ class Network:
     strands: list[Strand] = field(default_factory=list)
     speed_loops: list[SpeedLoop] = field(default_factory=list)
     gears: list[Gear] = field(default_factory=list)
+    elements: list[Element] = field(default_factory=list)
 
     def __post_init__(self):
         names = [n.name for n in self.nodes]
@@ -153,8 +156,9 @@ class Network:
             raise InputError(f"several motors named {motor_names}: give each motor a name of its own",
                              param="network")
         self._coordinates()
-        self.elements: list[Element] = [*self.couplings, *self.speed_loops, *self.loads, *self.prescribed,
-                                        *self.motors]
+        # every element that stamps itself: the named kinds, then any other kind (``elements``)
+        self.elements = [*self.couplings, *self.speed_loops, *self.loads, *self.prescribed, *self.motors,
+                         *self.elements]
         self.fixed = {}
         for p in self.prescribed:
             p.check(self)
@@ -331,8 +335,9 @@ class Network:
     def linear(self) -> bool:
         """True when the network is linear between switches (strands) and time break points
         (tables): every load is constant, sinusoidal or tabulated in time, so an exact
-        solution exists. Loads locked to a shaft angle make it nonlinear."""
-        return not any(ld.in_angle for ld in self.loads)
+        solution exists. An element whose terms are nonlinear (a load locked to a shaft angle:
+        ``nonlinear_kind``) makes it nonlinear."""
+        return not any(el.nonlinear_kind for el in self.elements)
 
     @property
     def ramp(self) -> bool:
@@ -644,14 +649,14 @@ class Network:
     def nonlinear_terms(self, t, x: np.ndarray, constrained: bool = True) -> np.ndarray:
         """x' contribution of what the linear form cannot take: loads locked to a shaft angle."""
         out = np.zeros_like(x, dtype=float)
-        for el in self.loads:
+        for el in self.elements:
             el.nonlinear(self, t, x, out, constrained)
         return out
 
     def nonlinear_jacobian(self, x: np.ndarray) -> np.ndarray:
         """d(nonlinear_terms)/dx: only the angle-locked loads depend on the state."""
         jac = np.zeros((self.size, self.size))
-        for el in self.loads:
+        for el in self.elements:
             el.jacobian(self, x, jac)
         return jac
 

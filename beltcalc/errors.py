@@ -120,6 +120,10 @@ def require_range(
     ...
     beltcalc.errors.InputError: mu: 1.5 is not allowed; it must be in (0, 1)
     """
+    if hasattr(value, "magnitude") and hasattr(value, "to"):   # a pint quantity: say what to pass
+        raise InputError(f"{value:g~} is a quantity; this function takes SI floats: pass "
+                         f"x.to({unit or 'dimensionless'!r}).magnitude, or use the API that takes quantities",
+                         param=param)
     bad_low = value <= low if low_open else value < low
     bad_high = value >= high if high_open else value > high
     if math.isfinite(value) and not bad_low and not bad_high:

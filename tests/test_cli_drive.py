@@ -165,6 +165,21 @@ def test_malformed_file_is_one_line_exit_1(tmp_path):
     one_error_line(run(str(path)), 1, "coupling 'jaw': between: 'gearbox' is not a node of this drive")
 
 
+@pytest.mark.parametrize("old, new, fragment", [
+    ('stiffness = "1500 N*m/rad"\n', "", "coupling 'jaw': stiffness: missing"),                      # missing key
+    ("[[gear]]", "[[gearbox]]", "unknown section [gearbox]"),                                          # unknown element
+    ('length = "300 mm"', 'length = "300 kg"', "shaft 'output_shaft': length: '300 kg' is a mass"),    # wrong unit
+    ('node = "drum1"', 'node = "drum9"', "load 'drum1_load': node: 'drum9' is not a node"),            # unknown node
+    ('ratio = 10', 'ratio = 10\n\n[[gear]]\nname = "loop"\nbetween = ["gear_out", "gear_in"]\nratio = 2',
+     "rigid gears form a loop with inconsistent ratios"),                                              # gear loop
+    ('name = "drum2"\ninertia = "0.4 kg*m^2"', 'name = "drum2"\ninertia = "0.4 kg*m^2"\n\n[[node]]\n'
+     'name = "loose"\ninertia = "0 kg*m^2"', "node(s) loose have no inertia and no spring path to one"),  # no inertia
+])
+def test_every_malformed_file_case_through_the_cli(tmp_path, old, new, fragment):
+    path = edited_copy(DRIVES / "conveyor.toml", tmp_path, old, new)
+    one_error_line(run(str(path)), 1, str(path), fragment)
+
+
 def test_help_names_the_built_in_drives():
     out = ok(CliRunner().invoke(cli, ["simulate", "drive", "--help"])).stdout
     assert "ELEMENT.KEY" in out and "conveyor" in out
@@ -226,3 +241,11 @@ def test_linear_axis_drive_file_is_the_scene():
     force = r["T_belt"] / model.lever
     assert float(force.max()) == pytest.approx(scene["belt"]["force_max"]["value"], rel=1e-9)
     assert float(force.min()) == pytest.approx(scene["belt"]["force_min"]["value"], rel=1e-9)
+
+
+def test_work_precision_on_a_drive_file():
+    obj = json.loads(ok(run("friswell_5_disks", "--work-precision", "--samples", "21", "--t-end", "2ms",
+                            "--json")).stdout)
+    methods = {row[0] for row in obj["rows"]}
+    assert {"exact", "radau", "odeint"} <= methods
+    assert obj["t_end"] == pytest.approx(0.002, rel=1e-15) and obj["samples"] == 21

@@ -177,6 +177,14 @@ def test_belt_span_from_the_catalog_reproduces_tension_stiffness_and_the_two_mas
     r = pulley_pitch_diameter(30, belt.pitch) / 2
     c = d.network.couplings[0]
     assert c.C / r ** 2 == pytest.approx(k, rel=1e-14)
+    # ... and k_TB of `beltcalc tension` for the same belt, width and span
+    from beltcalc.tension import TensionInputs, design_tension
+
+    rep = design_tension(TensionInputs(center_distance=1.2, width=0.025, mass=20.0, accel=1.0, tension_accel=0.1,
+                                       tension_speed=0.005, mu=0.2, pulley_diameter=2 * r),
+                         belt, load_catalog().thread("M10x1"))
+    assert c.C / r ** 2 == pytest.approx(rep.stiffness, rel=1e-14)
+    assert c.d / r ** 2 == pytest.approx(rep.damping, rel=1e-14)
     # half the span's mass (w_spec L) moves with each end: J + m L r^2 / 2 and m + m L / 2
     half = row.w_spec * 1.2 / 2
     assert undamped_frequencies(d.network)[0] == pytest.approx(

@@ -70,3 +70,12 @@ def test_to_pandas_without_pandas_says_how_to_get_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)
     with pytest.raises(beltcalc.InputError, match=r'pip install "beltcalc\[data\]"'):
         r.to_pandas()
+
+
+def test_a_formula_function_given_a_quantity_says_what_to_pass():
+    from beltcalc.belt import belt_stiffness
+    from beltcalc.units import ureg
+
+    with pytest.raises(beltcalc.InputError, match=r"c_spec: 5 kN is a quantity; this function takes SI "
+                                                  r"floats: pass x.to\('N'\).magnitude"):
+        belt_stiffness(ureg().Quantity(5, "kN"), 1.0)

@@ -54,6 +54,7 @@ def drive_scene(ref: str | Path, catalog=None) -> Scene:
               for e in f.entries if e.section == "node"]
     return Scene(name="drive", file=str(f.path), params=params,
                  build=partial(_build, f, catalog), run=partial(_run, f, catalog),
+                 timing=partial(_timing, f, catalog),
                  signal=speeds[0][0], sweep_example=_sweep_example(params),
                  sweep_columns=(), plot=(("speed", tuple(speeds)),),
                  load=lambda _ref: _FileScene(f))
@@ -74,6 +75,11 @@ def _values(values: dict) -> dict:
 
 def _build(drive_file, catalog, values: dict, **options):
     return drive_file.build(_values(values), catalog).network
+
+
+def _timing(drive_file, catalog, values: dict, **options) -> tuple[float, int]:
+    drive = drive_file.build(_values(values), catalog)
+    return drive.t_end, drive.samples
 
 
 def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:

@@ -225,6 +225,8 @@ class DriveFile:
     def __init__(self, path: str | Path, data: dict | None = None):
         self.path = Path(path)
         self.generated = data is not None       # built in code: bare numbers are SI values
+        self._params: list[DriveParam] | None = None
+        self._known_names: set[str] | None = None
         if data is None:
             data = _read_toml(self.path)
         for key in data:
@@ -303,6 +305,11 @@ class DriveFile:
     def params(self) -> list[DriveParam]:
         """Every addressable value: the timing, then ``ELEMENT.KEY`` of every element, with
         the file's text where the file gives it."""
+        if self._params is None:
+            self._params = self._list_params()
+        return list(self._params)
+
+    def _list_params(self) -> list[DriveParam]:
         out = [DriveParam(k, KEYS["drive"][k].unit, _text(self.head.raw.get(k)), KEYS["drive"][k].help)
                for k in ("t_end", "samples", "window")]
         for e in self.entries:
@@ -334,7 +341,9 @@ class DriveFile:
 
     def _known(self, values: dict | None) -> dict:
         values = dict(values or {})
-        known = {p.name for p in self.params()}
+        if self._known_names is None:
+            self._known_names = {p.name for p in self.params()}
+        known = self._known_names
         for name in values:
             if name not in known:
                 raise InputError(f"{name!r} is not a value of this drive file ({self.path.name})", param=name,

@@ -7,6 +7,7 @@ transmitted torque of the main and bottom shafts over a steady window. SI floats
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
@@ -94,8 +95,6 @@ def build(p: dict, angle_loads: bool = False) -> Network:
     With ``angle_loads`` the loads follow the shaft angle, sin(phi), instead of sin(w t):
     the network is then nonlinear.
     """
-    from beltcalc.sim.drivefile import load_drive
-
     check(p)
     values = {alias: p[name] for name, alias in ALIASES.items()}
     values["motor.pole_pairs"] = int(p["pole_pairs"])
@@ -104,7 +103,15 @@ def build(p: dict, angle_loads: bool = False) -> Network:
         values[f"{load}.frequency"] = w
         if angle_loads:
             values[f"{load}.order"] = 1.0
-    return load_drive("sewing", **{k.replace(".", "__"): v for k, v in values.items()}).network
+    return _drive_file().network(values)
+
+
+@lru_cache(maxsize=1)
+def _drive_file():
+    """catalogs/drives/sewing.toml, read once (a sweep builds the drive at every point)."""
+    from beltcalc.sim.drivefile import DriveFile, drive_path
+
+    return DriveFile(drive_path("sewing"))
 
 
 def run(values: dict, cfg, angle_loads: bool = False) -> Outcome:

@@ -136,7 +136,9 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, s
     if not network.linear:
         raise InputError("the exact method needs a network that is linear between switches; this one has "
                          "loads locked to a shaft angle: use `method` radau (or auto)", param="method")
-    if not network.smooth:
+    if not network.smooth or watch is not None:
+        # piecewise (also for a smooth network whose window statistics are watched: the
+        # extremes and integrals come off the exact solution, not the samples)
         out, steps, info = piecewise_exact(network, t, x0, cfg.max_events, scale, watch)
         return out, steps, 0, info
     dt = t[1] - t[0]
@@ -446,7 +448,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
 
 def _run(network, t, x0, cfg, method, reason, scale: float = 1.0, watch: tuple | None = None) -> SimResult:
     start = time.perf_counter()
-    spy = _watch(network, *watch) if watch and method == "exact" and not network.smooth else None
+    spy = _watch(network, *watch) if watch and method == "exact" else None
     if method == "exact":
         x, steps, calls, extra = _exact(network, t, x0, cfg, scale, spy)
     else:

@@ -38,6 +38,11 @@ class Watch:
         self.best = {side: np.full((nw, k), -np.inf) for side in (1, -1)}     # side * value, largest
         self.z = {side: np.zeros((nw, k, size)) for side in (1, -1)}
         self.t = {side: np.zeros((nw, k)) for side in (1, -1)}
+        # the step point before the best one (the stiff ladder reads forward only: the peak
+        # may lie in the step that ends at the best point)
+        self.z_prev = {side: np.zeros((nw, k, size)) for side in (1, -1)}
+        self.t_prev = {side: np.full((nw, k), np.nan) for side in (1, -1)}
+        self._last: tuple[np.ndarray, float, int] | None = None
         self.key = {side: np.empty((nw, k), dtype=object) for side in (1, -1)}
         self.piece = {side: np.zeros((nw, k), dtype=np.int64) for side in (1, -1)}
         self.piece_start: list[float] = []
@@ -73,13 +78,19 @@ class Watch:
                     self.z[side][w, better] = Z[rows]
                     self.t[side][w, better] = times[rows]
                     self.piece[side][w, better] = piece
+                    for k, r in zip(np.nonzero(better)[0], rows):
+                        if r > 0:
+                            self.z_prev[side][w, k], self.t_prev[side][w, k] = Z[r - 1], times[r - 1]
+                        elif self._last is not None and self._last[2] == piece:
+                            self.z_prev[side][w, k], self.t_prev[side][w, k] = self._last[0], self._last[1]
+                        else:
+                            self.t_prev[side][w, k] = np.nan
                     for k in np.nonzero(better)[0]:
                         self.key[side][w, k] = mode.key     # (pattern, piece, time): the cache rebuilds it
+        self._last = (Z[-1].copy(), float(times[-1]), piece)
 
     def finish(self) -> None:
         """Polish every recorded extreme on the exact polynomial around its point."""
-        from scipy.optimize import minimize_scalar
-
         run = self.run
         ends = run.piece_ends + [run.t_end]
         for w, start in enumerate(self.windows):
@@ -94,20 +105,16 @@ class Watch:
                     hi_t = min(run.t_end, ends[p], tz + mode.h)
                     value = best
                     if hi_t > lo_t and not (self.strand[k] >= 0 and not mode.taut[self.strand[k]]):
-                        f = self._polynomial(mode, self.z[side][w, k], k, side)
-                        a, b = (lo_t - tz) / mode.h, (hi_t - tz) / mode.h
-                        if mode.K and a < 0:          # the stiff ladder reads forward only
-                            a = 0.0
-                        if b > a:
-                            s = np.linspace(a, b, GRID)
-                            y = f(s)
-                            i = int(np.argmax(y))
-                            value = max(value, float(y[i]))
-                            lo, hi = s[max(i - 1, 0)], s[min(i + 1, GRID - 1)]
-                            if hi > lo:
-                                res = minimize_scalar(lambda x: -float(f(np.array([x]))[0]), bounds=(lo, hi),
-                                                      method="bounded", options={"xatol": 1e-12 * (b - a)})
-                                value = max(value, -float(res.fun))
+                        starts = [(self.z[side][w, k], tz)]
+                        t_prev = self.t_prev[side][w, k]
+                        if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
+                            starts.insert(0, (self.z_prev[side][w, k], t_prev))
+                        for z0, t0 in starts:
+                            f = self._polynomial(mode, z0, k, side)
+                            a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
+                            if mode.K:
+                                a, b = max(a, 0.0), min(b, 1.0)
+                            value = max(value, self._polish(f, a, b))
                     if self.strand[k] >= 0:        # a taut strand pulls: what rounds below zero at a switch is zero
                         value = max(value, 0.0) if side == 1 else min(value, 0.0)
                     key = (name, start)
@@ -116,6 +123,24 @@ class Watch:
                         self.result[key] = (lo_v, value)
                     else:
                         self.result[key] = (-value, hi_v)
+
+    @staticmethod
+    def _polish(f, a: float, b: float) -> float:
+        """The largest value of f on [a, b]: a grid, then a bounded search around its best point."""
+        from scipy.optimize import minimize_scalar
+
+        if not b > a:
+            return -np.inf
+        s = np.linspace(a, b, GRID)
+        y = f(s)
+        i = int(np.argmax(y))
+        value = float(y[i])
+        lo, hi = s[max(i - 1, 0)], s[min(i + 1, GRID - 1)]
+        if hi > lo:
+            res = minimize_scalar(lambda x: -float(f(np.array([x]))[0]), bounds=(lo, hi),
+                                  method="bounded", options={"xatol": 1e-12 * (b - a)})
+            value = max(value, -float(res.fun))
+        return value
 
     def _polynomial(self, mode, z: np.ndarray, k: int, side: int):
         """side * signal k at the point z + s h (s in units of the mode's step) as a function of s."""

@@ -115,7 +115,9 @@ def value(out: dict, shaft: str, key: str) -> float:
 def test_default_table_names_both_shafts_and_the_exact_method():
     out = ok(run()).stdout
     assert "Sewing-machine drive (Mamatova et al. 2016)" in out
-    assert "main shaft (3), t >= 0.5 s" in out
+    # the window moves to the latest start >= 0.5 s holding whole load periods: 18 of 0.0275749 s
+    assert "main shaft (3), t >= 0.5037 s" in out
+    assert "window t >= 0.503652 s: 18 whole load periods" in out
     assert "bottom shaft (5)" in out
     assert "motor (1)" in out
     method = [line for line in out.splitlines() if line.startswith("method:")]
@@ -442,8 +444,12 @@ def test_csv_time_series(tmp_path):
     _, s = read_csv(path)
     assert s["t_s"][0] == pytest.approx(0.0, abs=1e-15)
     assert s["t_s"][-1] == pytest.approx(0.3, rel=1e-12)
-    # the JSON summary is the CSV's window (t >= 0.2 s)
-    w = s["t_s"] >= 0.2 - 1e-12
+    # the JSON summary is the CSV's window: the latest start >= 0.2 s holding whole load periods
+    from beltcalc.sim.scenes.sewing import whole_period_window
+
+    start, periods = whole_period_window(0.3, 0.2, W3)
+    assert periods == 3
+    w = s["t_s"] >= start - 1e-12
     mean = np.trapezoid(s["omega_3_rad_per_s"][w], s["t_s"][w]) / (s["t_s"][w][-1] - s["t_s"][w][0])
     assert out["shafts"]["main"]["speed_mean"]["value"] == pytest.approx(mean, rel=1e-9)   # the trapezoid rule
     t45 = s["T_45_N_m"][w]

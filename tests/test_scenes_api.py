@@ -55,15 +55,17 @@ def test_registry_names_the_commands():
 # --- amplitudes 1.873 rad/s, 426.7 rad/s^2, 0.0702 N m at C4 = 260 N m/rad in the Fig. 5 table) ---
 
 @pytest.mark.parametrize("key, expected", [
-    (("shafts", "main", "speed_mean"), 227.8622055180321),
+    # means over whole load periods since issue 11 (the window starts at 0.50365 s, 18 periods;
+    # it was 0.5 s, 18.13 periods, and the motor's mean torque was 0.58 % off the balance)
+    (("shafts", "main", "speed_mean"), 227.85914258474025),
     (("shafts", "main", "speed_amplitude"), 1.8635721536822274),
     (("shafts", "main", "accel_amplitude"), 424.6314321526952),
-    (("shafts", "main", "torque_mean"), 0.1117218716225544),
+    (("shafts", "main", "torque_mean"), 0.1120028278172567),
     (("shafts", "bottom", "speed_amplitude"), 1.8724522486733406),
     (("shafts", "bottom", "accel_amplitude"), 426.65448730907167),
     (("shafts", "bottom", "torque_amplitude"), 0.07015337141848477),
-    (("motor", "speed_mean"), 313.31040393801834),
-    (("motor", "torque_mean"), 0.08099549512743975),
+    (("motor", "speed_mean"), 313.3063223301035),
+    (("motor", "torque_mean"), 0.0814601097994324),
     (("motor", "torque_amplitude"), 0.06474640072682526),
 ])
 def test_sewing_figures(sewing, key, expected):

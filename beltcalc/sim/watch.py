@@ -138,7 +138,7 @@ class Watch:
         lo, hi = s[max(i - 1, 0)], s[min(i + 1, GRID - 1)]
         if hi > lo:
             res = minimize_scalar(lambda x: -float(f(np.array([x]))[0]), bounds=(lo, hi),
-                                  method="bounded", options={"xatol": 1e-12 * (b - a)})
+                                  method="bounded", options={"xatol": 1e-9 * (b - a)})
             value = max(value, -float(res.fun))
         return value
 

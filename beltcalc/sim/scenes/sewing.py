@@ -114,19 +114,71 @@ def _drive_file():
     return DriveFile(drive_path("sewing"))
 
 
-def run(values: dict, cfg, angle_loads: bool = False) -> Outcome:
+def whole_period_window(t_end: float, window: float, omega: float) -> tuple[float, int]:
+    """(start, periods): the latest start >= ``window`` from which [start, t_end] holds whole
+    load periods 2 pi / omega; (window, 0) when not one period fits.
+
+    >>> start, k = whole_period_window(1.0, 0.5, 227.85910934810255)
+    >>> round(start, 8), k
+    (0.50365234, 18)
+    """
+    if omega <= 0:
+        return window, 0
+    period = 2 * math.pi / omega
+    k = int(math.floor((t_end - window) / period + 1e-9))
+    return (t_end - k * period, k) if k >= 1 else (window, 0)
+
+
+def run(values: dict, cfg, angle_loads: bool = False, steady_only: bool = False) -> Outcome:
     """One run: per shaft (main, bottom) the mean and amplitude of speed, acceleration and
-    transmitted torque over t >= ``window``, and the motor's speed and torque."""
+    transmitted torque, and the motor's speed and torque, twice:
+
+    - from the time simulation's samples over the steady window, moved to the latest start
+      at or after ``window`` that holds whole load periods;
+    - in the exact periodic steady state (:func:`beltcalc.sim.frequency.steady_state`),
+      where the loads are sinusoids in time (not with ``angle_loads``).
+
+    ``steady_only`` skips the time simulation (a sweep then costs microseconds a point)."""
+    import time
+
+    import numpy as np
+
     from beltcalc.sim.core import simulate
+    from beltcalc.sim.result import SimResult
 
     samples = check_timing(values)
     net = build(values, angle_loads)
+    notes = []
+    steady = None
+    if not angle_loads:
+        from beltcalc.sim import frequency as fr
+
+        t0 = time.perf_counter()
+        steady = fr.steady_state(net, STEADY_SIGNALS)
+        steady_wall = time.perf_counter() - t0
+    elif steady_only:
+        raise InputError("the loads follow the shaft angle (nonlinear): there is no exact steady state; "
+                         "leave out `steady_only`", param="steady_only")
+    if steady_only:
+        result = SimResult(t=np.zeros(0), signals={}, units={}, method="steady state",
+                           reason="exact periodic steady state: the drive is linear with sinusoidal loads, so "
+                                  "every signal is mean + Re(H(jw) e^{jwt}) (no time simulation)",
+                           wall_time=steady_wall, steps=0, rhs_calls=0)
+        return Outcome(net, result, _steady_sections(steady), notes)
+    omega = net.frequencies()[0] if net.frequencies() else 0.0
+    start, periods = whole_period_window(values["t_end"], values["window"], omega)
     result = simulate(net, values["t_end"], samples, cfg)
-    w0 = values["window"]
+    if periods:
+        notes.append(f"window t >= {start:.6g} s: {periods} whole load periods of {2 * math.pi / omega:.6g} s "
+                     f"(asked from {values['window']:g} s)")
+    elif omega:
+        result.warnings.append(f"the window {values['window']:g}..{values['t_end']:g} s is shorter than one load "
+                               f"period ({2 * math.pi / omega:.4g} s): its means and amplitudes are of a part of "
+                               "a cycle; the steady-state rows are exact")
     sections = []
     for name, (node, torque) in SHAFTS.items():
-        speed, accel, tq = (result.summary(s, w0) for s in (f"omega_{node}", f"accel_{node}", torque))
-        sections.append(Section(("shafts", name), f"{name} shaft ({node}), t >= {w0:g} s" if name == "main"
+        speed, accel, tq = (result.summary(s, start) for s in (f"omega_{node}", f"accel_{node}", torque))
+        sections.append(Section(("shafts", name), f"{name} shaft ({node}), t >= {start:.4g} s" if name == "main"
                                 else f"{name} shaft ({node})", [
             Row("speed_mean", "speed, mean", speed.mean, "rad/s", digits=5),
             Row("speed_amplitude", "speed, amplitude", speed.amplitude, "rad/s"),
@@ -134,13 +186,39 @@ def run(values: dict, cfg, angle_loads: bool = False) -> Outcome:
             Row("torque_mean", "transmitted torque, mean", tq.mean, "N m"),
             Row("torque_amplitude", "transmitted torque, amplitude", tq.amplitude, "N m"),
         ]))
-    speed, torque = result.summary("omega_1", w0), result.summary("M_motor", w0)
+    speed, torque = result.summary("omega_1", start), result.summary("M_motor", start)
     sections.append(Section(("motor",), "motor (1)", [
         Row("speed_mean", "speed, mean", speed.mean, "rad/s", "rpm", digits=5),
         Row("torque_mean", "torque, mean", torque.mean, "N m"),
         Row("torque_amplitude", "torque, amplitude", torque.amplitude, "N m"),
     ]))
-    return Outcome(net, result, sections)
+    if steady is None:
+        notes.append("no exact steady state: the loads follow the shaft angle (nonlinear)")
+    else:
+        sections += _steady_sections(steady)
+    return Outcome(net, result, sections, notes)
+
+
+STEADY_SIGNALS = ["omega_3", "accel_3", "T_23", "omega_5", "accel_5", "T_45", "omega_1", "M_motor"]
+
+
+def _steady_sections(ss) -> list[Section]:
+    """The exact periodic steady state, shaft by shaft and the motor."""
+    out = []
+    for name, (node, torque) in SHAFTS.items():
+        out.append(Section(("steady_state", f"{name}_shaft"), f"{name} shaft ({node}), periodic steady state (exact)", [
+            Row("speed_mean", "speed, mean", ss.mean[f"omega_{node}"], "rad/s", digits=5),
+            Row("speed_amplitude", "speed, amplitude", ss.amplitude[f"omega_{node}"], "rad/s"),
+            Row("accel_amplitude", "acceleration, amplitude", ss.amplitude[f"accel_{node}"], "rad/s^2"),
+            Row("torque_mean", "transmitted torque, mean", ss.mean[torque], "N m"),
+            Row("torque_amplitude", "transmitted torque, amplitude", ss.amplitude[torque], "N m"),
+        ]))
+    out.append(Section(("steady_state", "motor_steady"), "motor (1), periodic steady state (exact)", [
+        Row("speed_mean", "speed, mean", ss.mean["omega_1"], "rad/s", "rpm", digits=5),
+        Row("torque_mean", "torque, mean", ss.mean["M_motor"], "N m"),
+        Row("torque_amplitude", "torque, amplitude", ss.amplitude["M_motor"], "N m"),
+    ]))
+    return out
 
 
 SCENE = Scene(

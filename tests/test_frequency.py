@@ -172,3 +172,22 @@ def test_campbell_crossings_of_a_two_mass_system():
     assert [c.speed for c in crossings] == pytest.approx([2 * math.pi * f / k for k in (4, 3, 2)], rel=1e-14)
     assert f == pytest.approx(25.0 * math.sqrt(1 - crossings[0].damping_ratio ** 2) / math.sqrt(1 - crossings[0].damping_ratio ** 2),
                               rel=1e-6)
+
+
+def test_sewing_steady_only_run_reports_the_same_steady_state_without_simulating():
+    from beltcalc.sim.scenes import SCENES
+    from beltcalc.sim.scenes.base import run_scene
+
+    scene = SCENES["sewing"]
+    full = run_scene(scene, scene.values(), SolverConfig())
+    fast = run_scene(scene, scene.values(), SolverConfig(), steady_only=True)
+    assert fast.result.method == "steady state" and fast.result.t.size == 0
+    steady = {(s.path, r.key): r.value for s in full.sections if s.path[0] == "steady_state" for r in s.rows}
+    assert {(s.path, r.key): r.value for s in fast.sections for r in s.rows} == steady
+    # and the paper's Fig. 5 quantity, the bottom shaft's speed amplitude, is the window
+    # reading's to the start-up transient's leftover
+    window = next(r.value for s in full.sections if s.path == ("shafts", "bottom") for r in s.rows
+                  if r.key == "speed_amplitude")
+    assert steady[(("steady_state", "bottom_shaft"), "speed_amplitude")] == pytest.approx(window, rel=1e-5)
+    with pytest.raises(InputError, match="no exact steady state"):
+        run_scene(scene, scene.values(), SolverConfig(), angle_loads=True, steady_only=True)

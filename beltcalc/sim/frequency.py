@@ -151,13 +151,14 @@ def input_column(net, name: str) -> np.ndarray:
     raise InputError(f"{name!r} is not an input of this drive; inputs: {', '.join(known)}", param="input")
 
 
-def output_row(net, name: str) -> tuple[np.ndarray, int, str]:
+def output_row(net, name: str, rows: dict | None = None) -> tuple[np.ndarray, int, str]:
     """(row over the state, power of jw it is multiplied by, SI unit) of a named output:
     ``omega_<node>``/``v_<node>`` (speed), ``accel_<node>`` (jw x speed), ``phi_<node>``/
-    ``x_<node>``, ``T_<coupling>``, ``F_<strand>`` (taut), ``M_<motor>``."""
+    ``x_<node>``, ``T_<coupling>``, ``F_<strand>`` (taut), ``M_<motor>``. ``rows``: the
+    network's :func:`beltcalc.sim.core.linear_rows`, if already at hand."""
     from beltcalc.sim.core import linear_rows
 
-    rows = linear_rows(net)
+    rows = linear_rows(net) if rows is None else rows
     if name in rows:
         units = dict(net.state_names())
         unit = units.get(name) or _unit_of(net, name)
@@ -166,7 +167,7 @@ def output_row(net, name: str) -> tuple[np.ndarray, int, str]:
         node = name[6:]
         if node in net._node:
             speed = f"v_{node}" if net.node(node).translation else f"omega_{node}"
-            row, _, unit = output_row(net, speed)
+            row, _, unit = output_row(net, speed, rows)
             return row, 1, unit + "^2" if unit.endswith("/s") else unit + "/s"
     strands = {f"F_{s.name}": k for k, s in enumerate(net.strands)}
     if name in strands:
@@ -265,7 +266,10 @@ def frequency_response(net, inputs: list[str], outputs: list[str], omega, taut=N
     taut = net.taut if taut is None else tuple(taut)
     A = net.state_matrix(taut)
     B = np.column_stack([input_column(net, u) for u in inputs])
-    rows = [output_row(net, y) for y in outputs]
+    from beltcalc.sim.core import linear_rows
+
+    lin = linear_rows(net)
+    rows = [output_row(net, y, lin) for y in outputs]
     C = np.array([r for r, _, _ in rows])
     power = np.array([p for _, p, _ in rows])
     X = solve_jw(A, B, omega)
@@ -355,7 +359,8 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
     A, B = net.first_order(None, t_mid)
     if net.ramp and np.any(B[:, 1] != 0):
         raise InputError("an input still ramps after the last break point: no periodic steady state", param="drive")
-    rows = [output_row(net, y) for y in outputs]
+    lin = linear_rows(net)
+    rows = [output_row(net, y, lin) for y in outputs]
     mean_x = _mean_state(A, B[:, 0])
     freqs = net.frequencies()
     first = 1 + int(net.ramp)

@@ -37,10 +37,14 @@ COMMANDS = {
     "simulate": "beltcalc.cli.simulate:simulate",
     "belt-drive": "beltcalc.cli.belt_drive:belt_drive",
     "chain": "beltcalc.cli.chain:chain",
+    "modes": "beltcalc.cli.frequency:modes",
+    "response": "beltcalc.cli.frequency:response",
+    "campbell": "beltcalc.cli.frequency:campbell",
 }
 
 
 SCENE_OPTION = "beltcalc.scene_option"   # ctx.meta key: scene parameter name -> its option text
+OPTION_NAMES = "beltcalc.option_names"   # ctx.meta key: {library parameter: its option} where they differ
 
 
 def option_name(name: str) -> str:
@@ -50,11 +54,17 @@ def option_name(name: str) -> str:
 
 def error_line(exc: BeltcalcError, meta: dict) -> str:
     """The one line of a library error, its parameter (and every parameter its message
-    names in backquotes) named as the option that sets it."""
-    message = render(exc.message, option_name)
+    names in backquotes) named as the option that sets it (``meta[OPTION_NAMES]`` where a
+    command's option is not the parameter's name, ``f_min`` -> ``--from``)."""
+    names = meta.get(OPTION_NAMES, {})
+
+    def to_name(name: str) -> str:
+        return names.get(name) or option_name(name)
+
+    message = render(exc.message, to_name)
     if not exc.param:
         return message
-    to_option = meta.get(SCENE_OPTION, option_name) if exc.scope == "scene" else option_name
+    to_option = meta.get(SCENE_OPTION, to_name) if exc.scope == "scene" else to_name
     if isinstance(exc, UsageError):
         return f"Invalid value for {to_option(exc.param)}: {message}"
     return f"{to_option(exc.param)}: {message}"

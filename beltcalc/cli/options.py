@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
@@ -39,6 +40,23 @@ class QuantityParam(click.ParamType):
             return parse_quantity(value, self.si_unit)
         except QuantityError as exc:
             self.fail(str(exc), param, ctx)
+
+
+class FrequencyParam(QuantityParam):
+    """A frequency in Hz: hertz as written (``10Hz``, ``1kHz``), an angular frequency or a
+    speed divided by 2 pi (``62.8rad/s``, ``600rpm``: 10 Hz)."""
+
+    def __init__(self):
+        super().__init__("Hz")
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, float):
+            return value
+        hz = super().convert(value, param, ctx)      # text, number and dimension checked here
+        try:
+            return parse_quantity(value, "rad/s") / (2 * math.pi)
+        except QuantityError:                        # the only refusal left: the text is in hertz
+            return hz
 
 
 class OutputPath(click.ParamType):

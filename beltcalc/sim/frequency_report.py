@@ -1,0 +1,347 @@
+"""What the frequency-domain commands ask of a drive beyond :mod:`beltcalc.sim.frequency`:
+the drive with values set, every pole with its mode shape as one JSON-ready list, the
+inputs, outputs and frequency range a response takes when none are named, and the speed
+range of a Campbell diagram (the reference node's speed when the motor turns at its
+synchronous speed). SI floats only; nothing here prints, parses options or writes files.
+
+Poles and shapes come from the state matrix the time simulation propagates (strands taut):
+the same model in both domains.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from beltcalc.errors import InputError, UnknownNameError, UsageError, require_positive
+from beltcalc.sim import frequency as fr
+
+RUN_UP_MARGIN = 1.2          # default Campbell speed range: this times the motor's synchronous speed
+BAND = (0.1, 10.0)           # default response range: these times the lowest and highest mode frequency
+UNDAMPED = 1e-9              # damping ratio below which a mode counts as undamped (|H| unbounded there)
+
+
+def load(ref: str | Path, values: dict | None = None, catalog=None):
+    """The drive file ``ref`` (a path or a built-in name) built with ``values``
+    ({``ELEMENT.KEY``: SI value}) over the file's own: a
+    :class:`~beltcalc.sim.drivefile.Drive`.
+
+    >>> load("sewing", {"23.stiffness": 190.0}).network.couplings[1].C
+    190.0
+    """
+    from beltcalc.sim.drivefile import DriveFile, drive_path
+
+    return DriveFile(drive_path(ref)).build(values, catalog)
+
+
+# --- modes ------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Modes:
+    """Every pole of a drive (:func:`beltcalc.sim.frequency.poles` order: rigid-body, then the
+    oscillatory modes by frequency, then the real poles by time constant), the shape of each
+    oscillatory mode (``shapes[k]`` for the k-th oscillatory pole) and the undamped natural
+    frequencies [Hz] (M^-1 K: no damping, motors free)."""
+
+    poles: list
+    shapes: list
+    undamped: list[float]
+
+    def oscillatory(self) -> list:
+        """The oscillatory poles, mode 1 first."""
+        return [p for p in self.poles if p.kind == "oscillatory"]
+
+    def to_list(self, shapes: bool = True) -> list[dict]:
+        """Every pole as a JSON-ready dict (:func:`pole_dict`), oscillatory ones numbered as
+        modes 1, 2, ...; with ``shapes`` each mode's shape too."""
+        out, k = [], 0
+        for p in self.poles:
+            shape = None
+            if p.kind == "oscillatory":
+                shape = self.shapes[k] if shapes and k < len(self.shapes) else None
+                k += 1
+            out.append(pole_dict(p, k if p.kind == "oscillatory" else None, shape))
+        return out
+
+
+def modes(net, shapes: bool = True) -> Modes:
+    """The :class:`Modes` of a network (strands taut); ``shapes`` False leaves the mode
+    shapes out (no eigenvectors: a large network's poles alone cost less).
+
+    >>> m = modes(load("sewing").network)
+    >>> [p.kind for p in m.poles].count("real"), round(m.oscillatory()[0].frequency, 4)
+    (8, 17.3634)
+    """
+    from beltcalc.sim.drivefile import undamped_frequencies
+
+    return Modes(fr.poles(net), fr.mode_shapes(net) if shapes else [], undamped_frequencies(net))
+
+
+def _q(value: float | None, unit: str) -> dict | None:
+    if value is None:
+        return None
+    value = float(value) + 0.0                     # -0.0 (an undamped mode's rounding) as 0
+    return {"value": value if math.isfinite(value) else None, "unit": unit}
+
+
+def pole_dict(pole, mode: int | None = None, shape=None) -> dict:
+    """One pole as ``{"kind", "s_real", "s_imag", ...}`` with SI values as ``{"value",
+    "unit"}``: an oscillatory one (``mode`` its number) with ``frequency`` (undamped
+    natural, |s| / 2 pi), ``damped_frequency`` [Hz] and ``damping_ratio``, and with
+    ``shape`` its node amplitudes and phases and strain-energy shares; a real one with its
+    ``time_constant`` [s] (negative: unstable); a rigid-body one with no more.
+
+    >>> pole_dict(fr.Pole(-2.0 + 0j, "real", time_constant=0.5))["time_constant"]
+    {'value': 0.5, 'unit': 's'}
+    """
+    out = {"kind": pole.kind, "s_real": _q(pole.s.real, "1/s"), "s_imag": _q(pole.s.imag, "1/s")}
+    if pole.kind == "oscillatory":
+        out.update(mode=mode, frequency=_q(pole.frequency, "Hz"), damped_frequency=_q(pole.damped_frequency, "Hz"),
+                   damping_ratio=_q(pole.damping_ratio, "1"))
+        if shape is not None:
+            out["shape"] = {
+                "nodes": {n: {"amplitude": _q(a, "1"), "phase": _q(shape.phase[n], "deg")}
+                          for n, a in shape.amplitude.items()},
+                "strain_energy": {e: _q(share, "1") for e, share in shape.energy.items()},
+                "largest_strain_energy": ({"element": shape.dominant, "share": _q(shape.energy[shape.dominant], "1")}
+                                          if shape.dominant else None),
+            }
+    elif pole.kind == "real":
+        out["time_constant"] = _q(pole.time_constant, "s")
+    return out
+
+
+# --- frequency response -----------------------------------------------------------------------------
+def default_inputs(net) -> list[str]:
+    """A load on the last node that can take one (it has inertia and moves freely).
+
+    >>> default_inputs(load("sewing").network)
+    ['load:5']
+    """
+    free = [nd.name for nd in net.nodes
+            if nd.name not in net._massless and net.coord(nd.name)[0] not in net.fixed]
+    if not free:
+        raise InputError("no node of this drive can take a load (each has no inertia or a prescribed motion); "
+                         "name the `input`", param="input")
+    return [f"load:{free[-1]}"]
+
+
+def default_outputs(net) -> list[str]:
+    """The speed of every node (``omega_<node>``, ``v_<node>`` for a translating one)."""
+    return [("v_" if nd.translation else "omega_") + nd.name for nd in net.nodes]
+
+
+def frequency_band(net) -> tuple[float, float]:
+    """The default range of a response [Hz]: :data:`BAND` times the lowest and the highest
+    oscillatory mode's natural frequency (without one, the corner frequencies 1 / (2 pi tau)
+    of the stable real poles).
+
+    >>> [round(f, 4) for f in frequency_band(load("sewing").network)]
+    [1.7363, 173.6338]
+    """
+    ps = fr.poles(net)
+    f = [p.frequency for p in ps if p.kind == "oscillatory"]
+    if not f:
+        f = [1.0 / (2 * math.pi * p.time_constant) for p in ps if p.kind == "real" and p.time_constant > 0]
+    if not f:
+        raise InputError("the drive has no mode and no stable real pole to set a frequency range: give `f_min` and "
+                         "`f_max`", param=None)
+    return BAND[0] * min(f), BAND[1] * max(f)
+
+
+def frequency_grid(f_min: float, f_max: float | None, points: int, spacing: str = "log") -> np.ndarray:
+    """``points`` frequencies [Hz] from ``f_min`` to ``f_max``, log- or linearly spaced; one
+    point is ``f_min`` alone (``f_max`` None or equal).
+
+    >>> frequency_grid(1.0, 100.0, 3).tolist()
+    [1.0, 10.0, 100.0]
+    """
+    if spacing not in ("log", "linear"):
+        raise UsageError(f"spacing {spacing!r}; it is 'log' or 'linear'", param="spacing")
+    if not (isinstance(points, int) and 1 <= points <= 100_000):
+        raise UsageError(f"{points!r} points; give 1..100000", param="points")
+    if not (math.isfinite(f_min) and f_min >= 0):
+        raise InputError(f"{f_min:g} Hz; a frequency must be >= 0 Hz", param="f_min")
+    if f_min == 0 and spacing == "log":
+        raise UsageError("0 Hz cannot start a log-spaced range; start above 0 Hz or space the points linearly",
+                         param="f_min")
+    if points == 1:
+        if f_max is not None and f_max != f_min:
+            raise UsageError(f"one point is evaluated at `f_min` ({f_min:g} Hz) alone; leave `f_max` out or give "
+                             "more `points`", param="f_max")
+        return np.array([f_min])
+    if f_max is None or not (math.isfinite(f_max) and f_max > f_min):
+        shown = "none" if f_max is None else f"{f_max:g} Hz"
+        raise UsageError(f"{shown}; it must be above `f_min` ({f_min:g} Hz)", param="f_max")
+    if spacing == "log":
+        return np.geomspace(f_min, f_max, points)
+    return np.linspace(f_min, f_max, points)
+
+
+def _range(net, f_min: float | None, f_max: float | None, points: int) -> tuple[float, float | None]:
+    """``f_min`` and ``f_max`` with the missing ones from :func:`frequency_band`."""
+    if f_min is not None and (f_max is not None or points == 1):
+        return f_min, f_max
+    lo, hi = frequency_band(net)
+    if f_min is None and f_max is None:
+        return lo, (hi if points > 1 else None)
+    if f_min is None:
+        if not lo < f_max:
+            raise UsageError(f"the default `f_min`, {lo:.4g} Hz ({BAND[0]:g} x the lowest mode), is not below "
+                             f"`f_max` ({f_max:g} Hz): give `f_min`", param=None)
+        return lo, f_max
+    if not hi > f_min:
+        raise UsageError(f"the default `f_max`, {hi:.4g} Hz ({BAND[1]:g} x the highest mode), is not above "
+                         f"`f_min` ({f_min:g} Hz): give `f_max`", param=None)
+    return f_min, hi
+
+
+def check_names(net, inputs: list[str], outputs: list[str]) -> None:
+    """Refuse an input or output that the drive does not have (a usage error, with the
+    names it has)."""
+    for names, find in ((inputs, fr.input_column), (outputs, fr.output_row)):
+        for name in names:
+            try:
+                find(net, name)
+            except InputError as exc:
+                if exc.param in ("input", "output"):
+                    raise UnknownNameError(exc.message, param=exc.param) from None
+                raise
+
+
+def response(net, inputs: list[str] | None = None, outputs: list[str] | None = None, f_min: float | None = None,
+             f_max: float | None = None, points: int = 2000, spacing: str = "log"):
+    """The frequency response (:func:`beltcalc.sim.frequency.frequency_response`) from
+    ``inputs`` to ``outputs`` (default :func:`default_inputs`, :func:`default_outputs`) at
+    ``points`` frequencies from ``f_min`` to ``f_max`` [Hz] (default
+    :func:`frequency_band`). Refused where an undamped mode lies in the range: |H| is
+    unbounded there and a peak has no Q.
+
+    >>> r = response(load("sewing").network, outputs=["omega_3"], points=400)
+    >>> (f, peak, q), = r.peaks[("omega_3", "load:5")]
+    >>> round(f, 2), round(q, 2)
+    (16.93, 1.61)
+    """
+    inputs = list(inputs) if inputs else default_inputs(net)
+    outputs = list(outputs) if outputs else default_outputs(net)
+    check_names(net, inputs, outputs)
+    f = frequency_grid(*_range(net, f_min, f_max, points), points, spacing)
+    if f[0] == 0.0 and any(p.kind == "rigid" for p in fr.poles(net)):
+        raise InputError("0 Hz: the drive has a rigid-body mode, so its response at 0 Hz is unbounded; start above "
+                         "0 Hz", param="f_min")
+    undamped = [p.frequency for p in fr.poles(net)
+                if p.kind == "oscillatory" and p.damping_ratio < UNDAMPED and f[0] <= p.frequency <= f[-1]]
+    if undamped:
+        shown = ", ".join(f"{x:.5g}" for x in undamped)
+        raise InputError(f"the drive has undamped modes at {shown} Hz inside the range: |H| is unbounded there and a "
+                         "peak has no Q; give the drive damping, or a range clear of them", param=None)
+    omega = 2 * math.pi * f
+    if omega.size == 1:                     # frequency_response wants two points; no peak in one
+        r = fr.frequency_response(net, inputs, outputs, np.repeat(omega, 2))
+        r.omega, r.H = omega, r.H[:1]
+        r.peaks = {key: [] for key in r.peaks}
+        return r
+    return fr.frequency_response(net, inputs, outputs, omega)
+
+
+def ratio_unit(output_unit: str, input_unit: str) -> str:
+    """The unit of |H|: the output's per the input's, ``rad/s/(N m)``.
+
+    >>> ratio_unit("rad/s", "N m"), ratio_unit("N m", "N m"), ratio_unit("rad", "N")
+    ('rad/s/(N m)', '(N m)/(N m)', 'rad/N')
+    """
+    top = f"({output_unit})" if " " in output_unit else output_unit
+    bottom = f"({input_unit})" if (" " in input_unit or "/" in input_unit) else input_unit
+    return f"{top}/{bottom}"
+
+
+# --- Campbell diagram ---------------------------------------------------------------------------------
+def speed_ratio(net, node: str, to: str) -> float:
+    """omega_node / omega_to when the drive turns as a rigid body (no coupling or taut
+    strand strained): from the null space of M^-1/2 K M^-1/2. Refused where no rigid-body
+    motion joins the two nodes in one ratio.
+
+    >>> round(speed_ratio(load("friswell_geared").network, "gear3", "gear1"), 12)
+    0.625
+    """
+    s = 1.0 / np.sqrt(net.mass)
+    w2, V = np.linalg.eigh(net.K * s[:, None] * s[None, :])
+    floor = 1e-9 * max(1.0, float(np.max(np.abs(w2)))) if w2.size else 0.0
+    N = s[:, None] * V[:, np.abs(w2) <= floor]            # rigid-body motions over the coordinates
+    a, b = net.node_row(node) @ N, net.node_row(to) @ N
+    bb = float(b @ b)
+    ratio = float(a @ b) / bb if bb > 0 else math.nan
+    if not (bb > 0 and np.linalg.norm(a - ratio * b) <= 1e-9 * max(np.linalg.norm(a), np.linalg.norm(b))):
+        raise InputError(f"node {node!r} does not turn in one fixed ratio with node {to!r} (no rigid-body motion "
+                         "joins them); give `speed_max`", param="reference")
+    return ratio
+
+
+@dataclass(frozen=True)
+class Campbell:
+    """A Campbell diagram: the ``reference`` node whose speed Omega [rad/s] is the abscissa
+    (an order k excites k Omega / 2 pi [Hz]), the ``orders``, the speed range, the
+    reference's speed when the first induction motor turns at its synchronous speed
+    (``operating_speed``, None without one; ``motor`` its name), the oscillatory modes
+    (:class:`~beltcalc.sim.frequency.Pole`, mode 1 first) and the crossings."""
+
+    reference: str
+    orders: list[float]
+    speed_min: float
+    speed_max: float
+    operating_speed: float | None
+    motor: str | None
+    modes: list
+    crossings: list
+
+
+def campbell(drive, orders=(1.0, 2.0, 3.0), speed_max: float | None = None, speed_min: float = 0.0,
+             reference: str | None = None) -> Campbell:
+    """The :class:`Campbell` diagram of a :class:`~beltcalc.sim.drivefile.Drive`:
+    ``reference`` defaults to the node of its first motor (else its first node),
+    ``speed_max`` [rad/s] to :data:`RUN_UP_MARGIN` times the reference's speed when the
+    first induction motor turns at its synchronous speed (the largest of its start table).
+
+    >>> c = campbell(load("sewing"))
+    >>> c.reference, round(c.speed_max, 3), [(round(x.speed, 3), x.order) for x in c.crossings]
+    ('1', 376.991, [(36.366, 3.0), (54.549, 2.0), (109.097, 1.0)])
+    """
+    from beltcalc.sim.elements import InductionMotor
+
+    net = drive.network
+    orders = [float(k) for k in orders]
+    if not orders:
+        raise UsageError("no orders; name at least one", param="orders")
+    for k in orders:
+        if not (math.isfinite(k) and k > 0):
+            raise InputError(f"order {k:g}; orders must be > 0", param="orders")
+    if reference is None:
+        reference = drive.motors[0][1] if drive.motors else net.nodes[0].name
+    if reference not in net._node:
+        raise UnknownNameError(f"{reference!r} is not a node of this drive; nodes: "
+                               + ", ".join(nd.name for nd in net.nodes), param="reference")
+    if net.node(reference).translation:
+        raise UsageError(f"node {reference!r} translates; the reference of a Campbell diagram turns", param="reference")
+    motor = next((m for m in net.motors if isinstance(m, InductionMotor)), None)
+    operating = None
+    if motor is not None:
+        sync = max([motor.sync_speed] + [v for _, v in motor.sync_table])
+        try:
+            operating = sync * abs(speed_ratio(net, reference, motor.node))
+        except InputError:
+            if speed_max is None:
+                raise
+    if speed_max is None:
+        if operating is None:
+            raise UsageError("the drive has no induction motor whose synchronous speed would set the range: give "
+                             "`speed_max`", param=None)
+        speed_max = RUN_UP_MARGIN * operating
+    require_positive("speed_max", speed_max, "rad/s")
+    if not (math.isfinite(speed_min) and 0 <= speed_min < speed_max):
+        raise InputError(f"{speed_min:g} rad/s; it must be >= 0 rad/s and below `speed_max` ({speed_max:g} rad/s)",
+                         param="speed_min")
+    crossings = fr.campbell(net, orders, speed_max, speed_min)
+    osc = [p for p in fr.poles(net) if p.kind == "oscillatory"]
+    return Campbell(reference, orders, speed_min, speed_max, operating, motor.name if motor else None, osc, crossings)

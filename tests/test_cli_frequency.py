@@ -297,6 +297,18 @@ def test_the_console_script_runs_campbell():
     assert json.loads(result.stdout)["reference"] == "1"
 
 
+# --- simulate --modes shows the same poles --------------------------------------------------------
+
+def test_simulate_modes_json_is_every_pole():
+    obj = json.loads(ok(run("simulate", "drive", "sewing", "--modes", "--json", "--samples", "101",
+                            "--t-end", "0.1s", "--window", "0s")).stdout)
+    poles = js("modes")["modes"]
+    assert [m["kind"] for m in obj["modes"]] == [m["kind"] for m in poles]
+    assert all("shape" not in m for m in obj["modes"])
+    assert obj["modes"][1]["frequency"]["value"] == pytest.approx(poles[1]["frequency"]["value"], rel=1e-12)
+    assert obj["modes"][2]["time_constant"]["value"] == pytest.approx(poles[2]["time_constant"]["value"], rel=1e-12)
+
+
 # --- bad input: one line, exit 2 for usage and units, 1 for the physically impossible -------------
 
 @pytest.mark.parametrize("args, code, fragments", [

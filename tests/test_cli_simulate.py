@@ -469,21 +469,28 @@ def test_dt_sets_the_number_of_samples(tmp_path):
 # --- modes ---------------------------------------------------------------------------------------
 
 def test_modes_table_and_json():
+    # every pole (issue 11): the motor's angle (rigid body), one oscillatory mode and 8 real
+    # poles with time constants from 23.3 ms down to 1.65 us
     expected = build(PARAMS).modes()
-    assert len(expected) >= 1
+    assert len(expected) == 1
     out = ok(run(*SHORT, "--modes")).stdout
     rows = table_rows(out, "modes of the linear network")
-    assert len(rows) == len(expected)
-    assert float(rows[0][1]) == pytest.approx(expected[0][0], rel=1e-3)  # printed to 4 digits
+    assert [r[1] for r in rows] == ["rigid body", "mode 1"] + ["real"] * 8
+    assert float(rows[1][2]) == pytest.approx(expected[0][0], rel=1e-3)  # printed to 4 digits
+    assert (rows[2][5], rows[-1][5]) == ("23.34 ms", "1.653 us")
     modes = js(*SHORT, "--modes")["modes"]
-    assert len(modes) == len(expected)
-    for m, (f, z) in zip(modes, expected):
+    assert [m["kind"] for m in modes] == ["rigid", "oscillatory"] + ["real"] * 8
+    oscillatory = [m for m in modes if m["kind"] == "oscillatory"]
+    for m, (f, z) in zip(oscillatory, expected):
         assert m["frequency"]["unit"] == "Hz" and m["damping_ratio"]["unit"] == "1"
         assert m["frequency"]["value"] == pytest.approx(f, rel=1e-9)
         assert m["damping_ratio"]["value"] == pytest.approx(z, rel=1e-9)
     # README: one oscillatory mode, 17.4 Hz with damping ratio 0.30
-    assert modes[0]["frequency"]["value"] == pytest.approx(17.4, rel=5e-3)
-    assert modes[0]["damping_ratio"]["value"] == pytest.approx(0.30, rel=0.02)
+    assert oscillatory[0]["frequency"]["value"] == pytest.approx(17.4, rel=5e-3)
+    assert oscillatory[0]["damping_ratio"]["value"] == pytest.approx(0.30, rel=0.02)
+    tau = [m["time_constant"] for m in modes if m["kind"] == "real"]
+    assert {t["unit"] for t in tau} == {"s"}
+    assert [tau[0]["value"], tau[-1]["value"]] == pytest.approx([23.343e-3, 1.6532e-6], rel=1e-4)
 
 
 def test_no_modes_key_without_the_flag():

@@ -125,15 +125,13 @@ def _info_rows(result) -> list[Row]:
 
 
 def _print_modes(net) -> None:
-    from rich.table import Table
+    from beltcalc.cli.frequency import print_poles
+    from beltcalc.sim.frequency_report import modes
 
-    t = Table(title="modes of the linear network (motor state included, strands taut)", title_justify="left")
-    t.add_column("mode", justify="right")
-    t.add_column("frequency Hz", justify="right")
-    t.add_column("damping ratio", justify="right")
-    for k, (f, z) in enumerate(net.modes(), 1):
-        t.add_row(str(k), format_number(f, 4), format_number(z, 3))
-    console().print(t)
+    print_poles(modes(net, shapes=False), "modes of the linear network (motor states included, strands taut): "
+                                          "every pole")
+    console().print("mode shapes, response, Campbell diagram: beltcalc modes, response, campbell",
+                    markup=False, highlight=False)
 
 
 def _render_sweep(spec: Scene, sweep, as_json, csv_path, plot_path) -> None:
@@ -250,7 +248,9 @@ def common_options(spec: Scene | None):
                               "refines, then falls back to Radau, else the run fails."),
             click.option("--accept-error", is_flag=True,
                          help="Print a result whose error estimate exceeds --error-tol (marked) instead of failing."),
-            click.option("--modes", is_flag=True, help="Also print the natural frequencies and damping ratios."),
+            click.option("--modes", is_flag=True,
+                         help="Also print every pole of the linear network: oscillatory modes (frequency, damping "
+                              "ratio), real poles (time constant), rigid-body modes."),
             click.option("--sweep", "sweep_text", default=None, metavar="NAME=START:STOP:N",
                          help="Sweep a value (a scene parameter, a drive file's ELEMENT.KEY)."),
             click.option("--plot", "plot_path", type=OutputPath(), default=None, help="Write a PNG (needs matplotlib)."),

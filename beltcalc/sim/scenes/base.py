@@ -41,7 +41,9 @@ class Outcome:
     def to_dict(self, title: str, modes: bool = False) -> dict:
         """The run as one JSON-ready object: the scene's ``title``, how it was solved, every
         section's rows as ``{key: {"value": SI, "unit": SI unit}}`` placed by its path, the
-        notes, and with ``modes`` the network's natural frequencies and damping ratios."""
+        notes, and with ``modes`` every pole of the network
+        (:meth:`beltcalc.sim.frequency_report.Modes.to_list`: ``kind``; an oscillatory
+        mode's ``frequency`` and ``damping_ratio``, a real pole's ``time_constant``)."""
         r = self.result
         obj = {"scene": title, "method": r.method, "reason": r.reason,
                "wall_time": {"value": r.wall_time, "unit": "s"}, "steps": r.steps, "rhs_calls": r.rhs_calls,
@@ -56,8 +58,9 @@ class Outcome:
                 node = node.setdefault(key, {})
             node.update({row.key: {"value": row.value, "unit": row.unit} for row in sec.rows})
         if modes:
-            obj["modes"] = [{"frequency": {"value": f, "unit": "Hz"}, "damping_ratio": {"value": z, "unit": "1"}}
-                            for f, z in self.net.modes()]
+            from beltcalc.sim.frequency_report import modes as every_pole
+
+            obj["modes"] = every_pole(self.net, shapes=False).to_list(shapes=False)
         if self.notes:
             obj["notes"] = self.notes
         return obj

@@ -43,6 +43,36 @@ damping = "{D} N*m*s/rad"
 """
 
 
+MASSLESS = """
+[drive]
+t_end = "1 s"
+
+[[node]]
+name = "a"
+inertia = "0.1 kg*m^2"
+
+[[node]]
+name = "m"
+inertia = "0 kg*m^2"
+
+[[node]]
+name = "b"
+inertia = "0.2 kg*m^2"
+
+[[coupling]]
+name = "k1"
+between = ["a", "m"]
+stiffness = "100 N*m/rad"
+damping = "0.1 N*m*s/rad"
+
+[[coupling]]
+name = "k2"
+between = ["m", "b"]
+stiffness = "200 N*m/rad"
+damping = "0.2 N*m*s/rad"
+"""
+
+
 def run(*args):
     return CliRunner().invoke(cli, [str(a) for a in args])
 
@@ -240,6 +270,23 @@ def test_response_csv_one_row_per_frequency_and_bode_plot(tmp_path):
 
 
 # --- campbell -------------------------------------------------------------------------------------
+
+def test_a_load_on_a_node_without_inertia_is_refused_by_its_input(tmp_path):
+    # the middle node of two springs has no inertia: it is condensed out and takes no load;
+    # its speed is an output (here the node of the one mode: phi_m = (k1 phi_a + k2 phi_b) / (k1 + k2) = 0)
+    path = tmp_path / "massless.toml"
+    path.write_text(MASSLESS)
+    one_error_line(run("response", path, "--input", "load:m"), 1, "--input: a load input on 'm': a node without "
+                                                                    "inertia cannot carry a load")
+    obj = js("response", path, "--output", "omega_m", "--output", "omega_b", "--points", "400")
+    assert [r["input"] for r in obj["responses"]] == ["load:b", "load:b"]
+    assert obj["responses"][0]["peaks"] == []
+    # the two-mass mode through the condensed spring: C = 100 x 200 / 300, J = 0.1 x 0.2 / 0.3
+    f = math.sqrt((200 / 3) / (0.02 / 0.3)) / (2 * math.pi)
+    assert js("modes", path)["modes"][2]["frequency"]["value"] == pytest.approx(f, rel=1e-12)
+    (peak,) = obj["responses"][1]["peaks"]
+    assert peak["frequency"]["value"] == pytest.approx(f, rel=2e-3)       # damping ratio 0.016 shifts it
+
 
 def test_campbell_default_run():
     out = ok(run("campbell")).stdout

@@ -200,15 +200,16 @@ def _range(net, f_min: float | None, f_max: float | None, points: int) -> tuple[
 
 def check_names(net, inputs: list[str], outputs: list[str]) -> None:
     """Refuse an input or output that the drive does not have (a usage error, with the
-    names it has)."""
-    for names, find in ((inputs, fr.input_column), (outputs, fr.output_row)):
+    names it has), or cannot take (a load on a node without inertia: about the ``input``).
+    """
+    for names, find, param in ((inputs, fr.input_column, "input"), (outputs, fr.output_row, "output")):
         for name in names:
             try:
                 find(net, name)
             except InputError as exc:
-                if exc.param in ("input", "output"):
-                    raise UnknownNameError(exc.message, param=exc.param) from None
-                raise
+                if exc.param == param:
+                    raise UnknownNameError(exc.message, param=param) from None
+                raise InputError(exc.message, param=param) from None
 
 
 def response(net, inputs: list[str] | None = None, outputs: list[str] | None = None, f_min: float | None = None,

@@ -191,3 +191,11 @@ def test_sewing_steady_only_run_reports_the_same_steady_state_without_simulating
     assert steady[(("steady_state", "bottom_shaft"), "speed_amplitude")] == pytest.approx(window, rel=1e-5)
     with pytest.raises(InputError, match="no exact steady state"):
         run_scene(scene, scene.values(), SolverConfig(), angle_loads=True, steady_only=True)
+
+
+def test_an_undamped_resonance_has_no_bandwidth_not_an_error():
+    net = Network([Inertia("a", 1.0)], [Coupling("k", "a", None, 100.0, 0.0)])
+    r = fr.frequency_response(net, ["load:a"], ["phi_a"], np.linspace(1, 20, 400))
+    (f, mag, q), = r.peaks[("phi_a", "load:a")]
+    assert f * 2 * math.pi == pytest.approx(10.0, rel=1e-6)
+    assert q == math.inf

@@ -190,6 +190,7 @@ def solve_jw(A: np.ndarray, B: np.ndarray, omega: np.ndarray) -> np.ndarray:
     """X[k] = (j omega_k I - A)^-1 B for every frequency: batched complex solves in blocks,
     or, from :data:`HESSENBERG_SIZE` states, one Hessenberg reduction A = Q H Q^T and a
     banded (one subdiagonal) solve per frequency, O(n^2) each. Shape (len(omega), n, m).
+    A frequency exactly on an undamped pole gives infinity.
 
     >>> X = solve_jw(np.array([[-1.0]]), np.array([[1.0]]), np.array([0.0, 1.0]))
     >>> np.round(X[:, 0, 0], 3).tolist()
@@ -204,7 +205,14 @@ def solve_jw(A: np.ndarray, B: np.ndarray, omega: np.ndarray) -> np.ndarray:
         for a in range(0, omega.size, block):
             w = omega[a:a + block]
             M = 1j * w[:, None, None] * eye[None] - A[None]
-            out[a:a + block] = np.linalg.solve(M, np.broadcast_to(B, (w.size, n, m)))
+            try:
+                out[a:a + block] = np.linalg.solve(M, np.broadcast_to(B, (w.size, n, m)))
+            except np.linalg.LinAlgError:         # a frequency exactly on an undamped pole: |H| infinite
+                for k in range(w.size):
+                    try:
+                        out[a + k] = np.linalg.solve(M[k], B)
+                    except np.linalg.LinAlgError:
+                        out[a + k] = complex(math.inf, 0.0)
         return out
     from scipy.linalg import hessenberg, solve_banded
 
@@ -220,7 +228,10 @@ def solve_jw(A: np.ndarray, B: np.ndarray, omega: np.ndarray) -> np.ndarray:
     base = ab[n - 1].copy()
     for k, w in enumerate(omega):
         ab[n - 1] = base + 1j * w
-        out[k] = Q @ solve_banded((1, n - 1), ab, QB, check_finite=False)
+        try:
+            out[k] = Q @ solve_banded((1, n - 1), ab, QB, check_finite=False)
+        except np.linalg.LinAlgError:
+            out[k] = complex(math.inf, 0.0)
     return out
 
 
@@ -273,12 +284,17 @@ def frequency_response(net, inputs: list[str], outputs: list[str], omega, taut=N
     C = np.array([r for r, _, _ in rows])
     power = np.array([p for _, p, _ in rows])
     X = solve_jw(A, B, omega)
+    on_pole = ~np.isfinite(X).all(axis=(1, 2))
+    X[on_pole] = 0.0
     H = np.einsum("ij,kjm->kim", C, X) * (1j * omega[:, None, None]) ** power[None, :, None]
+    H[on_pole] = complex(math.inf, 0.0)           # exactly on an undamped pole
     in_units = [_input_unit(net, u) for u in inputs]
     resp = Response(omega, list(inputs), list(outputs), [u for _, _, u in rows], in_units, H)
 
     def h(w, i, j):
         x = solve_jw(A, B[:, [j]], np.array([w]))[0, :, 0]
+        if not np.all(np.isfinite(x)):           # exactly on an undamped pole
+            return math.inf
         return abs(C[i] @ x * (1j * w) ** power[i])
 
     for i, y in enumerate(outputs):
@@ -311,9 +327,12 @@ def _peaks(omega: np.ndarray, mag: np.ndarray, h) -> list[tuple[float, float, fl
         hi = next((j for j in range(k, mag.size) if mag[j] < half), None)
         q = None
         if lo is not None and hi is not None:
-            w1 = brentq(lambda w: h(w) - half, omega[lo], w0, xtol=1e-14 * w0)
-            w2 = brentq(lambda w: h(w) - half, w0, omega[hi], xtol=1e-14 * w0)
-            q = w0 / (w2 - w1)
+            try:
+                w1 = brentq(lambda w: h(w) - half, omega[lo], w0, xtol=1e-14 * w0)
+                w2 = brentq(lambda w: h(w) - half, w0, omega[hi], xtol=1e-14 * w0)
+                q = w0 / (w2 - w1) if w2 > w1 else math.inf       # an undamped mode: no bandwidth
+            except ValueError:                                     # no sign change: |H| unbounded at the pole
+                q = math.inf
         out.append((w0 / (2 * math.pi), peak, q))
     return out
 

@@ -5,7 +5,7 @@ Run: python benchmarks/steady_sweep.py [--points 1000]
 
 For C4 from 50 to 310 N m/rad (``--points`` values), the default sewing scene:
 
-* steady state: the scene's ``steady_only`` run (build the drive, solve the periodic steady
+* steady state: the scene's ``steady_state_only`` run (build the drive, solve the periodic steady
   state from H(jw), report): :func:`beltcalc.sim.frequency.steady_state`;
 * time simulation: the scene's normal run (exact method with its error estimate, 10,001
   samples over 1 s, the window on whole load periods from 0.5 s), as `beltcalc simulate
@@ -32,7 +32,7 @@ import numpy as np  # noqa: E402
 KEYS = ("speed_amplitude", "accel_amplitude", "torque_amplitude")
 
 
-def sweep(points: int, steady_only: bool):
+def sweep(points: int, steady_state_only: bool):
     from beltcalc.sim.core import SolverConfig
     from beltcalc.sim.scenes import SCENES
     from beltcalc.sim.scenes.base import sweep_scene
@@ -41,9 +41,9 @@ def sweep(points: int, steady_only: bool):
     values = scene.values()
     c4 = list(np.linspace(50.0, 310.0, points))
     t0 = time.perf_counter()
-    result = sweep_scene(scene, values, "C4", c4, SolverConfig(), steady_only=steady_only)
+    result = sweep_scene(scene, values, "C4", c4, SolverConfig(), steady_state_only=steady_state_only)
     wall = time.perf_counter() - t0
-    path = ("steady_state", "bottom_shaft") if steady_only else ("shafts", "bottom")
+    path = ("steady_state", "bottom_shaft") if steady_state_only else ("shafts", "bottom")
     table = np.array([[next(r.value for s in o.sections if s.path == path for r in s.rows if r.key == k)
                        for k in KEYS] for o in result.outcomes])
     return c4, table, wall
@@ -70,7 +70,7 @@ def main() -> None:
         "",
         "| run | wall [s] | per point [ms] |",
         "|---|---|---|",
-        f"| exact periodic steady state (`steady_only`) | {t_steady:.3g} | {1e3 * t_steady / args.points:.3g} |",
+        f"| exact periodic steady state (`steady_state_only`) | {t_steady:.3g} | {1e3 * t_steady / args.points:.3g} |",
         f"| time simulation (exact, error estimate, 10,001 samples over 1 s) | {t_sim:.3g} | "
         f"{1e3 * t_sim / args.points:.3g} |",
         "",

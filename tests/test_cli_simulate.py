@@ -581,3 +581,22 @@ def test_plot_without_matplotlib_says_what_to_install(tmp_path, monkeypatch):
     one_error_line(run(*SHORT, "--plot", str(path), "--csv", str(tmp_path / "run.csv")), 1,
                    "--plot", "beltcalc[plot]")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_steady_state_flag_skips_the_time_simulation(tmp_path):
+    # the exact periodic steady state alone: W3 by hand, the static balance of the torques,
+    # and a sweep's table of the exact amplitudes
+    out = js("--steady-state-only")
+    steady = out["steady_state"]
+    assert steady["main_shaft"]["speed_mean"]["value"] == pytest.approx(W3, rel=1e-8)
+    assert steady["main_shaft"]["torque_mean"]["value"] == pytest.approx(0.112, rel=1e-8)
+    assert steady["bottom_shaft"]["torque_mean"]["value"] == pytest.approx(0.012, rel=1e-8)
+    assert out["method"] == "steady state" and "shafts" not in out
+    path = tmp_path / "steady.csv"
+    ok(run("--steady-state-only", "--csv", str(path)))
+    assert path.read_text().splitlines()[0] == "section,key,value,unit"
+    sweep = json.loads(ok(run("--steady-state-only", "--sweep", "C4=50:310:3", "--json")).stdout)
+    col = sweep["columns"].index("bottom_shaft_speed_amplitude_rad_per_s")
+    assert [r[col] for r in sweep["rows"]] == pytest.approx([1.8719, 1.8723, 1.8726], abs=2e-4)
+    one_error_line(run("--steady-state-only", "--plot", str(tmp_path / "x.png")), 2, "--plot", "--steady-state-only")
+    one_error_line(run("--steady-state-only", "--angle-loads"), 1, "no exact steady state")

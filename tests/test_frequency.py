@@ -174,13 +174,13 @@ def test_campbell_crossings_of_a_two_mass_system():
                               rel=1e-6)
 
 
-def test_sewing_steady_only_run_reports_the_same_steady_state_without_simulating():
+def test_sewing_steady_state_only_run_reports_the_same_steady_state_without_simulating():
     from beltcalc.sim.scenes import SCENES
     from beltcalc.sim.scenes.base import run_scene
 
     scene = SCENES["sewing"]
     full = run_scene(scene, scene.values(), SolverConfig())
-    fast = run_scene(scene, scene.values(), SolverConfig(), steady_only=True)
+    fast = run_scene(scene, scene.values(), SolverConfig(), steady_state_only=True)
     assert fast.result.method == "steady state" and fast.result.t.size == 0
     steady = {(s.path, r.key): r.value for s in full.sections if s.path[0] == "steady_state" for r in s.rows}
     assert {(s.path, r.key): r.value for s in fast.sections for r in s.rows} == steady
@@ -190,7 +190,7 @@ def test_sewing_steady_only_run_reports_the_same_steady_state_without_simulating
                   if r.key == "speed_amplitude")
     assert steady[(("steady_state", "bottom_shaft"), "speed_amplitude")] == pytest.approx(window, rel=1e-5)
     with pytest.raises(InputError, match="no exact steady state"):
-        run_scene(scene, scene.values(), SolverConfig(), angle_loads=True, steady_only=True)
+        run_scene(scene, scene.values(), SolverConfig(), angle_loads=True, steady_state_only=True)
 
 
 def test_an_undamped_resonance_has_no_bandwidth_not_an_error():

@@ -129,7 +129,7 @@ def whole_period_window(t_end: float, window: float, omega: float) -> tuple[floa
     return (t_end - k * period, k) if k >= 1 else (window, 0)
 
 
-def run(values: dict, cfg, angle_loads: bool = False, steady_only: bool = False) -> Outcome:
+def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = False) -> Outcome:
     """One run: per shaft (main, bottom) the mean and amplitude of speed, acceleration and
     transmitted torque, and the motor's speed and torque, twice:
 
@@ -138,7 +138,7 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_only: bool = False)
     - in the exact periodic steady state (:func:`beltcalc.sim.frequency.steady_state`),
       where the loads are sinusoids in time (not with ``angle_loads``).
 
-    ``steady_only`` skips the time simulation (a sweep then costs microseconds a point)."""
+    ``steady_state_only`` skips the time simulation (a sweep then costs under a millisecond a point)."""
     import time
 
     import numpy as np
@@ -156,10 +156,10 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_only: bool = False)
         t0 = time.perf_counter()
         steady = fr.steady_state(net, STEADY_SIGNALS)
         steady_wall = time.perf_counter() - t0
-    elif steady_only:
+    elif steady_state_only:
         raise InputError("the loads follow the shaft angle (nonlinear): there is no exact steady state; "
-                         "leave out `steady_only`", param="steady_only")
-    if steady_only:
+                         "leave out `steady_state_only`", param="steady_state_only")
+    if steady_state_only:
         result = SimResult(t=np.zeros(0), signals={}, units={}, method="steady state",
                            reason="exact periodic steady state: the drive is linear with sinusoidal loads, so "
                                   "every signal is mean + Re(H(jw) e^{jwt}) (no time simulation)",
@@ -223,7 +223,11 @@ def _steady_sections(ss) -> list[Section]:
 
 SCENE = Scene(
     "sewing", "sewing", PARAMS, build, run, "omega_3", "C4=50:310:14",
-    ("main_speed_amplitude_rad_per_s", "main_accel_amplitude_rad_per_s2", "main_torque_amplitude_N_m",
+    # shown in a sweep's table: the exact steady state's, else (loads in the shaft angle) the window's
+    ("main_shaft_speed_amplitude_rad_per_s", "main_shaft_accel_amplitude_rad_per_s2",
+     "main_shaft_torque_amplitude_N_m", "bottom_shaft_speed_amplitude_rad_per_s",
+     "bottom_shaft_accel_amplitude_rad_per_s2", "bottom_shaft_torque_amplitude_N_m",
+     "main_speed_amplitude_rad_per_s", "main_accel_amplitude_rad_per_s2", "main_torque_amplitude_N_m",
      "bottom_speed_amplitude_rad_per_s", "bottom_accel_amplitude_rad_per_s2", "bottom_torque_amplitude_N_m"),
     (("speed [rad/s]", (("omega_3", "main shaft"), ("omega_5", "bottom shaft"))),
      ("acceleration [rad/s^2]", (("accel_3", "main shaft"), ("accel_5", "bottom shaft"))),

@@ -290,9 +290,11 @@ def test_a_load_on_a_node_without_inertia_is_refused_by_its_input(tmp_path):
 
 def test_campbell_default_run():
     out = ok(run("campbell")).stdout
-    assert "Campbell diagram, speed of node 1 from 0 to 377.0 rad/s (3600 rpm), orders 1, 2, 3" in out
+    # orders 1, 2, 3 and the loads' own: at the motor's synchronous speed the loads run at the
+    # main shaft's steady speed 227.86 rad/s, order 227.86 / 314.16 = 0.7253 of the motor
+    assert "Campbell diagram, speed of node 1 from 0 to 377.0 rad/s (3600 rpm), orders 1, 2, 3, 0.7253" in out
     rows = table_rows(out, "crossings of order lines and modes")
-    assert [(r[3], r[4]) for r in rows] == [("3", "1"), ("2", "1"), ("1", "1")]
+    assert [(r[3], r[4]) for r in rows] == [("3", "1"), ("2", "1"), ("1", "1"), ("0.7253", "1")]
     assert rows[2][:3] == ["109.1", "1042", "0.347"]
     assert "node 1 turns at 314.2 rad/s (3000 rpm)" in out
 

@@ -449,8 +449,9 @@ def _plot_campbell(d, c, path) -> None:
 
 @click.command("campbell")
 @drive_options
-@click.option("--orders", "orders_text", default="1,2,3", show_default=True, metavar="K,K,...",
-              help="Excitation orders: an order k at a shaft speed Omega excites k Omega / 2 pi.")
+@click.option("--orders", "orders_text", default=None, metavar="K,K,...",
+              help="Excitation orders: an order k at a shaft speed Omega excites k Omega / 2 pi "
+                   "[default: 1,2,3 and the orders of the drive's own loads].")
 @quantity_option("--speed-max", si_unit="rad/s",
                  help="Highest speed of the reference node, e.g. 3000rpm [default: 1.2 x the induction motor's "
                       "synchronous speed, at the reference].")
@@ -464,7 +465,7 @@ def campbell(drive, assignments, catalog_paths, plot_path, as_json, csv_path, or
     against the operating speed), order, mode, frequency and the mode's damping ratio."""
     from beltcalc.sim import frequency_report as fq
 
-    orders = _orders(orders_text)
+    orders = None if orders_text is None else _orders(orders_text)
     d = _drive(drive, assignments, catalog_paths, plot_path)
     c = fq.campbell(d, orders, speed_max, speed_min, reference)
     _emit(csv_path, plot_path, as_json, lambda: _campbell_csv(c), lambda path: _plot_campbell(d, c, path),

@@ -298,21 +298,46 @@ class Campbell:
     crossings: list
 
 
-def campbell(drive, orders=(1.0, 2.0, 3.0), speed_max: float | None = None, speed_min: float = 0.0,
+def load_orders(net, reference: str, operating: float | None) -> list[float]:
+    """The excitation orders of the drive's own loads, counted on the reference node: a load
+    locked to a node's angle (``order``) times that node's speed ratio to the reference; a
+    sine in time at w, at the operating speed Omega of the reference: w / Omega.
+
+    >>> net = load("sewing").network              # loads at the main shaft's steady speed
+    >>> [round(k, 6) for k in load_orders(net, "1", 314.159265)]
+    [0.725298]
+    """
+    out = []
+    for ld in net.loads:
+        if not ld.amplitude:
+            continue
+        try:
+            k = ld.order * abs(speed_ratio(net, ld.node, reference)) if ld.in_angle else (
+                ld.omega / operating if operating and ld.omega else None)
+        except InputError:
+            k = None
+        if k and not any(math.isclose(k, x, rel_tol=1e-9) for x in out):
+            out.append(k)
+    return out
+
+
+def campbell(drive, orders=None, speed_max: float | None = None, speed_min: float = 0.0,
              reference: str | None = None) -> Campbell:
     """The :class:`Campbell` diagram of a :class:`~beltcalc.sim.drivefile.Drive`:
     ``reference`` defaults to the node of its first motor (else its first node),
     ``speed_max`` [rad/s] to :data:`RUN_UP_MARGIN` times the reference's speed when the
-    first induction motor turns at its synchronous speed (the largest of its start table).
+    first induction motor turns at its synchronous speed (the largest of its start table),
+    ``orders`` to 1, 2, 3 and the orders of the drive's own loads (:func:`load_orders`).
 
     >>> c = campbell(load("sewing"))
-    >>> c.reference, round(c.speed_max, 3), [(round(x.speed, 3), x.order) for x in c.crossings]
-    ('1', 376.991, [(36.366, 3.0), (54.549, 2.0), (109.097, 1.0)])
+    >>> c.reference, round(c.speed_max, 3), [(round(x.speed, 3), round(x.order, 6)) for x in c.crossings]
+    ('1', 376.991, [(36.366, 3.0), (54.549, 2.0), (109.097, 1.0), (150.417, 0.725298)])
     """
     from beltcalc.sim.elements import InductionMotor
 
     net = drive.network
-    orders = [float(k) for k in orders]
+    default = orders is None
+    orders = [1.0, 2.0, 3.0] if default else [float(k) for k in orders]
     if not orders:
         raise UsageError("no orders; name at least one", param="orders")
     for k in orders:
@@ -343,6 +368,8 @@ def campbell(drive, orders=(1.0, 2.0, 3.0), speed_max: float | None = None, spee
     if not (math.isfinite(speed_min) and 0 <= speed_min < speed_max):
         raise InputError(f"{speed_min:g} rad/s; it must be >= 0 rad/s and below `speed_max` ({speed_max:g} rad/s)",
                          param="speed_min")
+    if default:
+        orders += [k for k in load_orders(net, reference, operating) if not any(math.isclose(k, x) for x in orders)]
     crossings = fr.campbell(net, orders, speed_max, speed_min)
     osc = [p for p in fr.poles(net) if p.kind == "oscillatory"]
     return Campbell(reference, orders, speed_min, speed_max, operating, motor.name if motor else None, osc, crossings)

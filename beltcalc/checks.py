@@ -63,3 +63,17 @@ class Check:
         op = "<=" if self.kind == "max" else ">="
         return (f"{self.name} FAILS: {self.value:.4g} {self.unit} must be {op} {self.limit:.4g} {self.unit} "
                 f"(utilisation {self.utilisation:.0%}; {self.rule})")
+
+    def to_dict(self) -> dict:
+        """JSON-ready: values ``{"value", "unit"}``, utilisation and margin, verdict, rule
+        (never NaN: None with the reason)."""
+        return {"key": self.key, "name": self.name,
+                "value": {"value": self.value, "unit": self.unit}, "limit": {"value": self.limit, "unit": self.unit},
+                "kind": self.kind, "margin": {"value": self.margin, "unit": self.unit},
+                "utilisation": {"value": self.utilisation, "unit": "1"}, "verdict": self.verdict,
+                "rule": self.rule, **({"reason": self.reason} if self.reason else {})}
+
+
+def failures(checks) -> list[Check]:
+    """The checks that fail."""
+    return [c for c in checks if c.verdict == "FAIL"]

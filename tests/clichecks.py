@@ -9,12 +9,18 @@ import numpy as np
 
 
 def ok(result):
-    """A run that exited 0 with nothing on stderr."""
+    """A run that exited 0 with nothing on stderr but ``warning:`` lines (failed checks and
+    what the run could not give; ``warnings(result)`` lists them)."""
     detail = f"exit {result.exit_code}\nstdout:\n{result.stdout}\nstderr:\n{result.stderr}"
     assert result.exit_code == 0, detail
     assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
-    assert result.stderr == "", detail
+    assert all(line.startswith("warning: ") for line in result.stderr.splitlines()), detail
     return result
+
+
+def warnings(result) -> list[str]:
+    """The ``warning:`` lines of a run's stderr, without the prefix."""
+    return [line[len("warning: "):] for line in result.stderr.splitlines() if line.startswith("warning: ")]
 
 
 def one_error_line(result, exit_code: int, *fragments: str, stdout_empty: bool = True) -> str:

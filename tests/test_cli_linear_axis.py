@@ -98,7 +98,9 @@ def test_json_keys_and_si_units(short_json):
             assert item["unit"] == unit, (section, key)
     # the carriage has not settled 0.1 s after the move (the belt's damping ratio is 0.002): null
     assert value(out, "carriage", "settling_time") is None
-    assert any("has not settled" in note for note in out["notes"])
+    # what the run could not give, and failed checks, are warnings (stderr, the JSON's warnings)
+    assert any("has not settled" in w for w in out["warnings"])
+    assert any(w.startswith("belt force FAILS") for w in out["warnings"])
     # SI in the JSON: the following error in m (a few mm), the speed in rad/s (3000 rpm = 314.16 rad/s)
     assert value(out, "carriage", "following_error_max") == pytest.approx(2.26e-3, rel=0.01)
     assert value(out, "motor", "speed_max") == pytest.approx(100 * math.pi, rel=1e-12)
@@ -269,7 +271,7 @@ def test_rms_needs_the_whole_cycle():
     whole = js("--set", "damping=9000N*s/m", "--set", "after_move=0.6s", "--dt", "0.1ms")
     longer = js("--set", "damping=9000N*s/m", "--set", "after_move=0.9s", "--dt", "0.1ms")
     assert value(short, "motor", "torque_rms") is None
-    assert any("no RMS" in n for n in short["notes"])
+    assert any("no RMS" in w for w in short["warnings"])
     assert value(whole, "motor", "torque_rms") == pytest.approx(value(longer, "motor", "torque_rms"), rel=1e-6)
 
 

@@ -17,7 +17,8 @@ from beltcalc.cli.main import SCENE_OPTION, option_name
 from beltcalc.cli.options import OutputPath, catalog_option, output_options
 from beltcalc.cli.output import (console, display_unit, display_value, format_number, print_table, progress,
                                  require_matplotlib, table_csv, write_atomic)
-from beltcalc.errors import render
+from beltcalc.checks import failures
+from beltcalc.errors import InputError, render
 from beltcalc.report import Row, Section
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.base import Scene
@@ -37,7 +38,7 @@ def _seconds(text: str, option: str) -> float:
 
 def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, max_events, error_tol, accept_error, modes,
                 sweep_text, plot_path, work_precision, as_json, csv_path, options: dict, preset: dict | None = None,
-                t_end=None, samples=None, window=None) -> None:
+                t_end=None, samples=None, window=None, strict: bool = False) -> None:
     """The body every ``simulate`` command shares: ``preset`` are scene values its own
     options give (None: not given), ``options`` the scene's keyword inputs."""
     from beltcalc.errors import require_positive
@@ -73,10 +74,16 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
         _render_sweep(spec, result, as_json, csv_path, plot_path)
         return
     out = run_scene(spec, values, cfg, **options)
-    out.result.warnings[:] = [render(w, option_name) for w in out.result.warnings]
-    out.notes[:] = [render(n, option_name) for n in out.notes]
+    names = {p.name for p in spec.params}
+    to_option = lambda n: own.get(n, f"--set {n}") if n in names else option_name(n)  # noqa: E731
+    out.result.warnings[:] = [render(w, to_option) for w in out.result.warnings]
+    out.notes[:] = [render(n, to_option) for n in out.notes]
     for warning in out.result.warnings:
         click.echo(f"warning: {warning}", err=True)
+    failed = failures(out.checks)
+    if strict and failed:        # nothing is written: the result did not pass
+        raise InputError(f"{len(failed)} checks fail ({', '.join(c.name for c in failed)}); see the warnings",
+                         param="strict")
     if csv_path is not None:      # the time series; a run without one (steady state only): its rows
         write_atomic(csv_path, out.result.csv_text() if out.result.t.size else table_csv(
             ["section", "key", "value", "unit"],
@@ -90,8 +97,27 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
         return
     _print_sections(scene_def.title, out.sections + [Section(("solved",), "solved", _info_rows(out.result))],
                     [f"method: {out.result.reason}"] + out.notes)
+    _print_checks(out.checks)
     if modes:
         _print_modes(out.net)
+
+
+def _print_checks(checks) -> None:
+    """The checks as one table, failing rows marked."""
+    from rich.table import Table
+
+    if not checks:
+        return
+    t = Table(title="checks", title_justify="left")
+    for col in ("check", "value", "limit", "unit", "utilisation", "verdict"):
+        t.add_column(col, justify="left" if col in ("check", "unit", "verdict") else "right")
+    for c in checks:
+        u = c.utilisation
+        style = "bold red" if c.verdict == "FAIL" else None
+        t.add_row(c.name, "-" if c.value is None else format_number(c.value, 4),
+                  "-" if c.limit is None else format_number(c.limit, 4), c.unit,
+                  "-" if u is None else f"{u:.0%}", c.verdict, style=style)
+    console().print(t)
 
 
 def _print_sections(title: str, sections: list[Section], notes: list[str]) -> None:
@@ -252,6 +278,9 @@ def common_options(spec: Scene | None):
                               "refines, then falls back to Radau, else the run fails."),
             click.option("--accept-error", is_flag=True,
                          help="Print a result whose error estimate exceeds --error-tol (marked) instead of failing."),
+            click.option("--strict", is_flag=True,
+                         help="Exit 1 (and write no file) when a check fails: strand strength, motor breakdown, "
+                              "the error estimate, the steady window, ..."),
             click.option("--modes", is_flag=True,
                          help="Also print every pole of the linear network: oscillatory modes (frequency, damping "
                               "ratio), real poles (time constant), rigid-body modes."),

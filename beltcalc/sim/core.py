@@ -533,6 +533,7 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
         ref = METHODS["radau"](network, t, x0, tight)[0]
         label = "radau at 1/100 of the tolerances"
     names = network.state_names()
+    result.extra["error_tol"] = cfg.error_tol
     floor = conditioning(network, float(t[-1])) if network.linear else 0.0
     scales: dict[str, float] = {}
     for k in range(n, 2 * n):

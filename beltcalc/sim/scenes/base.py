@@ -37,6 +37,24 @@ class Outcome:
     result: object              # beltcalc.sim.result.SimResult
     sections: list[Section]
     notes: list[str] = field(default_factory=list)
+    checks: list = field(default_factory=list)      # beltcalc.checks.Check
+
+    def __post_init__(self):
+        # every run checks its own error estimate against the tolerance it was given; each
+        # failing check is a warning (stderr, the JSON's one `warnings` key)
+        r = self.result
+        if getattr(r, "error_estimate", None) is not None and r.extra.get("error_tol"):
+            from beltcalc.checks import Check
+
+            self.checks.append(Check("error_estimate", "error estimate", r.error_relative, r.extra["error_tol"], "1",
+                                     rule=f"relative to the scale of {r.error_signal}: the accepted tolerance"))
+        from beltcalc.checks import failures
+
+        for c in failures(self.checks):
+            if c.key == "error_estimate" and r.extra.get("error_accepted"):
+                continue                 # the core's own warning says it ("accepted with a large error")
+            if c.warning() not in r.warnings:
+                r.warnings.append(c.warning())
 
     def to_dict(self, title: str, modes: bool = False) -> dict:
         """The run as one JSON-ready object: the scene's ``title``, how it was solved, every
@@ -63,6 +81,8 @@ class Outcome:
             obj["modes"] = every_pole(self.net, shapes=False).to_list(shapes=False)
         if self.notes:
             obj["notes"] = self.notes
+        obj["checks"] = [c.to_dict() for c in self.checks]
+        obj["warnings"] = list(r.warnings)
         return obj
 
     def columns(self) -> list[tuple[str, float]]:
@@ -256,3 +276,37 @@ def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group:
             rows.append(Row("safety", label, limit / max(s.max, 1e-300), "1", digits=3, note=what))
         out.append(Section(("strands", strand.name), strand.name, rows, group=group, item=strand.name))
     return out
+
+
+def strand_check(net, result, limits: Mapping[str, tuple[float, str]]) -> list:
+    """The strength check of the most loaded strand over the whole run: its peak force
+    against its limit (a chain's breaking load, a belt's F_Tadm), with how many strands
+    exceed theirs."""
+    from beltcalc.checks import Check
+
+    rated = [(result.summary(f"F_{s.name}", 0.0).max, *limits[s.name], s.name) for s in net.strands
+             if s.name in limits]
+    if not rated:
+        return []
+    over = sum(1 for f, limit, _, _ in rated if f > limit)
+    f, limit, what, name = max(rated, key=lambda r: r[0] / r[1])
+    rule = f"the peak over the run of strand {name}, the most loaded against its {what}"
+    if over > 1:
+        rule += f"; {over} of {len(rated)} strands exceed theirs"
+    return [Check("strand_strength", "strand force", f, limit, "N", rule=rule)]
+
+
+def motor_checks(result, signal: str, breakdown: float, window: float, peak_from: float = 0.0) -> list:
+    """An induction motor's torque against its breakdown torque M_c: the mean over the steady
+    window (beyond it the motor stalls) and the peak from ``peak_from`` [s] on (beyond it the
+    linearised characteristic of Mamatova et al. eq. 2 does not hold)."""
+    from beltcalc.checks import Check
+
+    mean, part = result.summary(signal, window).mean, result.summary(signal, peak_from)
+    peak = max(abs(part.min), abs(part.max))
+    span = "over the run" if peak_from <= 0 else f"t >= {peak_from:.4g} s"
+    return [Check("motor_mean_torque", "motor mean torque", abs(mean), breakdown, "N m",
+                  rule=f"t >= {window:.4g} s, against the breakdown torque M_c: beyond it the motor stalls"),
+            Check("motor_peak_torque", "motor peak torque", peak, breakdown, "N m",
+                  rule=f"{span}, against the breakdown torque M_c: the linearised characteristic (eq. 2) holds "
+                       "below it")]

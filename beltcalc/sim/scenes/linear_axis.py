@@ -27,6 +27,7 @@ from beltcalc.drive import BeltAxis, Duty
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
 from beltcalc.profiles import Trapezoid
+from beltcalc.checks import Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import Outcome, Scene, scene_values
@@ -385,13 +386,23 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
              + (f" (eq. 1, {model.chain_units} units)" if model.belt_model == "chain" else
                 f" (m_TB = {model.axis.substitute_mass * 1e3:.4g} g by {substitute_mass_model})")]
     if rms is None:
-        notes.append("the run ends before the cycle (move + dwell): no RMS; raise after_move")
+        result.warnings.append("the run ends before the cycle (move + dwell): no RMS; raise `after_move`")
     if settle is None:
-        notes.append("the carriage has not settled by the end of the run: raise after_move")
-    if pretension < worst:
-        notes.append(f"the belt force reaches {worst:.0f} N, above the pretension {pretension:.0f} N: "
-                     "the slack span goes slack")
-    return Outcome(net, result, sections, notes)
+        result.warnings.append("the carriage has not settled by the end of the run: raise `after_move`")
+    m = sizing.shown.motor
+    checks = [
+        Check("belt_slack", "belt force", worst, pretension, "N",
+              rule="the largest |belt force| against the pretension F_t,peak: above it the slack span goes slack "
+                   "(the paper's eq. 10-11 criterion)"),
+        Check("motor_peak_torque", "motor peak torque", float(np.abs(torque).max()), m.T_max, "N m",
+              rule=f"dynamic, against {m.name}'s T_max"),
+        Check("motor_rms_torque", "motor RMS torque", rms, m.T_n, "N m",
+              rule=f"dynamic, over the cycle, against {m.name}'s T_n",
+              reason="" if rms is not None else "the run ends before the cycle"),
+        Check("motor_speed", "motor speed", float(np.abs(result["omega_motor"]).max()), m.n_max, "rad/s",
+              rule=f"against {m.name}'s n_max"),
+    ]
+    return Outcome(net, result, sections, notes, checks)
 
 
 SCENE = Scene(

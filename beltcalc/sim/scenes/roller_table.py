@@ -30,7 +30,8 @@ from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network, series_stiffness
-from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values, strand_sections
+from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, check_timing, motor_checks, scene_values, strand_check,
+                                      strand_sections)
 
 ROUTINGS = ("serpentine", "loops")
 POSITIVE = {
@@ -268,15 +269,12 @@ def run(values: dict, cfg) -> Outcome:
             note=f"roller 1 within {values['settle_tolerance']:.0%} of its speed before the load"),
         Row("steady_speed_rollers", "roller speed, static balance", steady_speed(values), "rad/s", digits=5),
     ]))
-    notes = []
     if settle is None:
-        notes.append("the rollers did not settle before the load lands: raise load_start or t_end")
+        result.warnings.append("the rollers did not settle before the load lands: no start-up time; raise "
+                               "`load_start` or `t_end`")
     breakdown = values["breakdown_factor"] * values["rated_torque"]
-    if abs(torque.mean) > breakdown:
-        notes.append(f"the motor's mean torque {torque.mean:.3g} N m exceeds its breakdown torque {breakdown:.3g} N m: "
-                     "the linearised characteristic does not hold there, and a real motor would stall; "
-                     "choose a larger motor or gear ratio")
-    return Outcome(net, result, sections, notes)
+    checks = strand_check(net, result, breaking) + motor_checks(result, "M_motor", breakdown, w0)
+    return Outcome(net, result, sections, [], checks)
 
 
 SCENE = Scene(

@@ -11,9 +11,10 @@ from functools import lru_cache
 
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
+from beltcalc.checks import Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
-from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, scene_values
+from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, motor_checks, scene_values
 
 NODES = ("1", "2", "3", "4", "5")
 NAMES = {"1": "motor", "2": "driven-pulley rim", "3": "main shaft", "4": "toothed-pulley rim", "5": "bottom shaft"}
@@ -196,7 +197,14 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
         notes.append("no exact steady state: the loads follow the shaft angle (nonlinear)")
     else:
         sections += _steady_sections(steady)
-    return Outcome(net, result, sections, notes)
+    breakdown = values["breakdown_factor"] * values["rated_torque"]
+    # the paper's start from rest, direct on line, runs the linearised characteristic far beyond
+    # breakdown (the model's own limit, not the drive's): the peak is checked in the window
+    checks = motor_checks(result, "M_motor", breakdown, start, peak_from=start)
+    if omega:
+        checks.append(Check("window_periods", "steady window", float(periods), 1.0, "1", kind="min",
+                            rule="whole load periods in the window: its means and amplitudes are of whole cycles"))
+    return Outcome(net, result, sections, notes, checks)
 
 
 STEADY_SIGNALS = ["omega_3", "accel_3", "T_23", "omega_5", "accel_5", "T_45", "omega_1", "M_motor"]

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from beltcalc.sim.scalar import bounded_minimum
+
 GRID = 257          # points per refinement interval before the local optimum is polished
 
 
@@ -126,32 +128,39 @@ class Watch:
 
     @staticmethod
     def _polish(f, a: float, b: float) -> float:
-        """The largest value of f on [a, b]: a grid, then a bounded search around its best point."""
-        from scipy.optimize import minimize_scalar
-
+        """The largest value of f on [a, b]: a grid, then a bounded search around its best
+        point. ``f`` is a pair: the function on an array of points, and on one float."""
         if not b > a:
             return -np.inf
+        on_grid, at = f
         s = np.linspace(a, b, GRID)
-        y = f(s)
+        y = on_grid(s)
         i = int(np.argmax(y))
         value = float(y[i])
         lo, hi = s[max(i - 1, 0)], s[min(i + 1, GRID - 1)]
         if hi > lo:
-            res = minimize_scalar(lambda x: -float(f(np.array([x]))[0]), bounds=(lo, hi),
-                                  method="bounded", options={"xatol": 1e-9 * (b - a)})
-            value = max(value, -float(res.fun))
+            _, fun, _ = bounded_minimum(lambda x: -at(x), lo, hi, xatol=1e-9 * (b - a))
+            value = max(value, -fun)
         return value
 
     def _polynomial(self, mode, z: np.ndarray, k: int, side: int):
-        """side * signal k at the point z + s h (s in units of the mode's step) as a function of s."""
+        """side * signal k at the point z + s h (s in units of the mode's step) as a function
+        of s: (on an array of s, on one float s)."""
         row = self.O[k]
         if mode.K == 0:
             c = side * (mode.taylor(z) @ row)          # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
+            top, rest = float(c[-1]), c[-2::-1].tolist()
 
             def f(s):
                 return np.polynomial.polynomial.polyval(s, c)
-            return f
+
+            def f1(s: float) -> float:                  # Horner on floats: polyval's operations, without numpy
+                y = top
+                for cj in rest:
+                    y = cj + y * s
+                return y
+            return f, f1
 
         def g(s):                                       # stiff ladder: forward from z
             return side * (mode.at(np.repeat(z[None], s.size, axis=0), s * mode.h) @ row)
-        return g
+        return g, lambda s: float(g(np.array([s]))[0])

@@ -860,21 +860,46 @@ def _convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
             return (value, unit.split("|")[0]) if keep_unit and "|" in unit else value
         raise ValueError(f"{raw!r} needs its unit: write it as a text, e.g. \"{raw} {unit.split('|')[0]}\"")
     try:
+        if isinstance(raw, str):
+            got = _quantity(raw, unit)
+        else:
+            got = parse_quantity_any(raw, tuple(unit.split("|"))) if "|" in unit else parse_quantity(raw, unit)
         if "|" in unit:
-            value, u = parse_quantity_any(raw, tuple(unit.split("|")))
+            value, u = got
             return (value, u) if keep_unit else value
-        return parse_quantity(raw, unit)
+        return got
     except QuantityError as exc:
         raise ValueError(str(exc)) from None
 
 
+@lru_cache(maxsize=4096)
+def _quantity(raw: str, unit: str):
+    """The text ``raw`` read as a quantity of ``unit`` (:func:`~beltcalc.units.parse_quantity`; of
+    one of ``a|b``: (value, unit), :func:`~beltcalc.units.parse_quantity_any`). Each text
+    is read by pint once per process: a build reads every value of the file, and a run
+    builds its drive several times (the rigid notes, the error estimate, a sweep's points).
+    A refusal is not kept: it is raised again, the same, on every call."""
+    from beltcalc.units import parse_quantity, parse_quantity_any
+
+    if "|" in unit:
+        return parse_quantity_any(raw, tuple(unit.split("|")))
+    return parse_quantity(raw, unit)
+
+
 def _materials(f: DriveFile, e: Entry) -> dict:
-    """catalogs/materials.toml: {name: {"shear_modulus": Pa, "density": kg/m^3}}."""
+    """catalogs/materials.toml: {name: {"shear_modulus": Pa, "density": kg/m^3}} (shared:
+    read only)."""
     from beltcalc.catalogs import builtin_dir
+
+    return _material_table(str(builtin_dir() / "materials.toml"))
+
+
+@lru_cache(maxsize=2)
+def _material_table(path: str) -> dict:
+    """The material table at ``path`` in SI floats, read and converted once per process."""
     from beltcalc.units import parse_quantity
 
-    path = builtin_dir() / "materials.toml"
-    data = _read_toml(path)
+    data = _read_toml(Path(path))
     out = {}
     for name, props in data.get("materials", {}).items():
         out[name] = {"shear_modulus": parse_quantity(props["shear_modulus"], "Pa"),

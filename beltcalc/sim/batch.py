@@ -17,8 +17,9 @@ few signals ``y_ri(t_k) = c_ri^T z_r(t_k)`` that are linear in ``z``: speeds, ac
   asked for instead of every state);
 - reduced at once to what the row reports: min, max and trapezoid mean over each run's steady
   window, the peak of each speed over the run, and the error estimate of
-  :func:`beltcalc.sim.core.estimate_error` (the speeds again with ``expm(F~ dt / 3)^3``, the
-  other internal partition, plus the conditioning floor ``eps ||F~||_1 t_end``).
+  :func:`beltcalc.sim.core.estimate_error` (the speeds at every (b+1)-th sample and the last
+  again with ``expm(F~ dt / 3)^3``, the other internal partition:
+  :func:`beltcalc.sim.core.reference_rows`, plus the conditioning floor ``eps ||F~||_1 t_end``).
 
 No time series is kept: a pass holds at most :data:`PASS_BYTES` of samples, so memory does not
 grow with the chunk or the number of runs.
@@ -76,22 +77,6 @@ def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
-def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
-    """[start, step start, ...] of every run, (runs, count, m): the doubling of
-    :func:`beltcalc.sim.switching._orbit`, the same products run by run."""
-    R, m = start.shape
-    out = np.empty((R, count, m))
-    out[:, 0] = start
-    filled, power = 1, step
-    while filled < count:
-        n = min(filled, count - filled)
-        out[:, filled:filled + n] = out[:, :n] @ power.transpose(0, 2, 1)
-        filled += n
-        if filled < count:
-            power = power @ power
-    return out
-
-
 class Propagation:
     r"""The exact solution of a stack of runs ``z_r' = F_r z_r`` at ``samples`` points ``k dt``,
     as :func:`beltcalc.sim.core._propagate` computes it for one run, with the same operations
@@ -108,7 +93,7 @@ class Propagation:
     """
 
     def __init__(self, F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1):
-        from scipy.linalg import expm
+        from beltcalc.sim.core import expm, orbit_stack
 
         self.scale = _balance(F)
         s = self.scale
@@ -118,7 +103,7 @@ class Propagation:
         self.powers = _orbit_matrix(step, b)
         jump = step @ self.powers[:, b - 1]
         self.full, self.tail = divmod(samples, b)
-        self.starts = _orbit(jump, z0 / s, self.full + (self.tail > 0))
+        self.starts = orbit_stack(jump, z0 / s, self.full + (self.tail > 0))
         self.samples = samples
 
     def rows(self, rows: Sequence[int], block0: int = 0, block1: int | None = None) -> np.ndarray:
@@ -146,17 +131,19 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     the signals ``names`` over its window (the samples from ``first[r]`` on), computed as a
     single run computes them (:func:`beltcalc.sim.core._outputs`, the same operations): a
     state; ``accel_<node>`` of a coordinate, its row of ``A x + B g``
-    (:func:`beltcalc.sim.core.one_piece_derivative`); ``T_<coupling>``, ``C (g . phi) + d (g .
-    omega)`` (:meth:`beltcalc.sim.elements.Coupling.outputs_of`); and the run's error estimate
-    as :func:`beltcalc.sim.core.estimate_error` forms it (the speeds over the whole run against
-    ``expm(F~ dt / 3)^3``, plus the conditioning floor).
+    (:func:`beltcalc.sim.core.one_piece_accelerations`, ``g`` as propagated);
+    ``T_<coupling>``, ``C (g . phi) + d (g . omega)``
+    (:meth:`beltcalc.sim.elements.Coupling.outputs_of`); and the run's error estimate as
+    :func:`beltcalc.sim.core.estimate_error` forms it (the speeds against
+    :func:`beltcalc.sim.core.reference_rows`, their peaks over the whole run, plus the
+    conditioning floor).
 
     Yields one pass of runs at a time: ``(runs, k, Y, err)``, ``Y[j, i]`` signal ``names[i]``
     of run ``runs[j]`` at the samples from ``k`` on (``k <= first[r]``), ``err[j]`` its
     relative error estimate (None without ``estimate``). A pass holds at most
     :data:`PASS_BYTES` of states. A name of another kind raises KeyError.
     """
-    from beltcalc.sim.core import augmented_matrix
+    from beltcalc.sim.core import augmented_matrix, reference_rows
     from beltcalc.sim.switching import EPS
 
     R = len(nets)
@@ -192,16 +179,16 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
         b = prop.b
         block0 = min(int(first[r]) for r in idx) // b
         k = block0 * b
-        X = prop.rows(range(m), block0)                       # every state, from the window's block on
+        Z = prop.rows(range(z0.shape[1]), block0)            # every state and generator, from the window's block on
+        X, gens = Z[:, :m], Z[:, m:]
         Y = np.empty((Rp, len(names), N - k))
         for i, (kind, what) in enumerate(kinds):
             if kind == "state":
                 Y[:, i] = X[:, what]
         if accel:
-            tw = t[k:]
             AB = [nets[r].first_order() for r in idx]
-            dx = np.stack([A[accel] for A, _ in AB]) @ X        # the rows of A x (one_piece_derivative)
-            dx += np.stack([B[accel] for _, B in AB]) @ _generators([nets[r] for r in idx], tw)   # + B g
+            dx = np.stack([A[accel] for A, _ in AB]) @ X        # the rows of A x (one_piece_accelerations)
+            dx += np.stack([B[accel] for _, B in AB]) @ gens   # + B g, g as propagated
             for i, (kind, what) in enumerate(kinds):
                 if kind == "accel":
                     Y[:, i] = dx[:, accel.index(what)]
@@ -220,32 +207,19 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
                     Y[:, i] = T[:, torque.index(what)]
         err = None
         if estimate:
-            ref = Propagation(F, z0, dt, N, parts=3).rows(speeds)
-            ref[:, :, k:] -= X[:, speeds]                          # the speeds over the whole run
+            at, ref = reference_rows(F, z0, dt, N, speeds, scale=prop.scale)   # the single run's reference
             parts = [X[:, speeds]]
             if k:
-                pre = prop.rows(speeds, 0, block0)
-                ref[:, :, :k] -= pre
-                parts.append(pre)
-            peak = np.max([np.maximum(p.max(axis=2), -p.min(axis=2)) for p in parts], axis=0)
+                parts.append(prop.rows(speeds, 0, block0))
+                ref -= np.concatenate([parts[1][:, :, at[at < k]], parts[0][:, :, at[at >= k] - k]], axis=2)
+            else:
+                ref -= parts[0][:, :, at]
+            peak = np.max([np.maximum(q.max(axis=2), -q.min(axis=2)) for q in parts], axis=0)
             apart = np.maximum(ref.max(axis=2), -ref.min(axis=2))
             s = prop.scale
             floor = EPS * np.abs(F / s[:, :, None] * s[:, None, :]).sum(axis=1).max(axis=1) * float(t[-1])
             err = np.array([_relative(peak[j], apart[j], float(floor[j]), units) for j in range(Rp)])
         yield idx, k, Y, err
-
-
-def _generators(nets: Sequence, t: np.ndarray) -> np.ndarray:
-    """g(t) = [1, sin w1 t, cos w1 t, ...] of each network (one linear piece: no ramp), (runs,
-    p, len(t)): :meth:`beltcalc.sim.network.Network.generators`, the same operations."""
-    w = np.array([net.frequencies() for net in nets], dtype=float).reshape(len(nets), -1)
-    g = np.empty((len(nets), 1 + 2 * w.shape[1], t.size))
-    g[:, 0] = 1.0
-    for q in range(w.shape[1]):
-        wt = w[:, q, None] * t[None, :]
-        g[:, 1 + 2 * q] = np.sin(wt)
-        g[:, 2 + 2 * q] = np.cos(wt)
-    return g
 
 
 def _relative(peak: np.ndarray, apart: np.ndarray, floor: float, units: Sequence[str]) -> float:

@@ -101,8 +101,19 @@ def augmented_matrix(network: Network, taut=None, t_mid: float = 0.0) -> np.ndar
     return _augment(network, *network.first_order(taut, t_mid))
 
 
+def one_piece(network: Network) -> tuple[np.ndarray, np.ndarray]:
+    """(F, scale): the augmented matrix of the network's one linear piece (every strand taut,
+    the first time piece) and its balancing (:func:`beltcalc.sim.switching.balance`), kept
+    on the network: a run, its error estimate and its conditioning read them once."""
+    hit = network.__dict__.get("_one_piece")
+    if hit is None:
+        F = augmented_matrix(network)
+        hit = network.__dict__["_one_piece"] = (F, balance(F))
+    return hit
+
+
 def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1,
-               rows=None, out: np.ndarray | None = None) -> np.ndarray:
+               rows=None, out: np.ndarray | None = None, scale: np.ndarray | None = None) -> np.ndarray:
     """z at t_k = k dt, k < samples, as columns (only ``rows`` of z, default all). F is
     balanced first (a diagonal similarity of powers of two: exact). With S = expm(F~ dt) (or
     expm(F~ dt / parts)^parts, another partition and scaling of A h for the error estimate)
@@ -111,13 +122,14 @@ def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: in
     the one result array, row i by row i (a product per row whose result is already that
     row's samples in time order), with the balancing scale folded into the powers. No
     temporary as large as the result: a cold process touches only the result's own pages.
-    ``out``: the (rows, samples) array to fill (e.g. rows of a larger array)."""
+    ``out``: the (rows, samples) array to fill (e.g. rows of a larger array); ``scale``: F's
+    balancing where the caller has it."""
     m = F.shape[0]
     rows = np.arange(m) if rows is None else np.asarray(rows)
-    scale = balance(F)
+    scale = balance(F) if scale is None else scale
     Ft = F / scale[:, None] * scale[None, :]
     step = np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
-    b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
+    b = _block(samples)
     powers = _orbit_matrix(step, b)
     jump = step @ powers[b - 1]                      # S^b
     full, tail = divmod(samples, b)
@@ -150,6 +162,67 @@ def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
+def _block(samples: int) -> int:
+    """The block length b ~ sqrt(samples) of :func:`_propagate`."""
+    return max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
+
+
+def orbit_stack(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
+    """[start, step start, step^2 start, ...] of every matrix of a stack, (R, count, m) from
+    step (R, m, m) and start (R, m): :func:`beltcalc.sim.switching._orbit`'s doubling, the
+    same products stack entry by stack entry."""
+    R, m = start.shape
+    out = np.empty((R, count, m))
+    out[:, 0] = start
+    filled, power = 1, step
+    while filled < count:
+        k = min(filled, count - filled)
+        out[:, filled:filled + k] = out[:, :k] @ power.transpose(0, 2, 1)
+        filled += k
+        if filled < count:
+            power = power @ power
+    return out
+
+
+def reference_rows(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, rows,
+                   scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The error estimate's second computation of a run that is one linear piece: ``rows`` of
+    ``z`` at every s-th sample (``s = b + 1``, coprime to :func:`_propagate`'s block length
+    ``b``, so the samples fall at every offset within a block) and at the last, by another
+    partition of the step and another chain of products: ``S' = expm(F~ dt / 3)^3``, the stride
+    step ``S'^s`` by binary powering, its orbit by doubling, the last sample's remainder by
+    binary powering. Returns ``(idx, ref)``: the sample indices and ``ref[..., i, j]``, row
+    ``rows[i]`` at sample ``idx[j]``.
+
+    Why a subset of the samples suffices: the run's own error is the rounding of ``S`` and of
+    its powers carried along the orbit, a smooth function of the sample index (per block
+    start and per offset within a block), which samples at every offset and every block
+    follow; each sample's last dot product adds a rounding that the conditioning term of
+    :func:`estimate_error` bounds. ~sqrt(samples) samples instead of all: the estimate costs
+    one ``expm`` and a few products instead of a second whole propagation.
+
+    ``F`` (m, m) and ``z0`` (m,), or stacks (R, m, m) and (R, m) (one call for a study's
+    chunk, :mod:`beltcalc.sim.batch`; ``ref`` then (R, len(rows), len(idx))). ``scale``: the
+    balancing of ``F`` where the caller has it."""
+    single = F.ndim == 2
+    F3, z3 = (F[None], z0[None]) if single else (F, z0)
+    if scale is None:
+        scale = np.stack([balance(f) for f in F3])
+    scale = scale.reshape(F3.shape[:2])
+    Ft = F3 / scale[:, :, None] * scale[:, None, :]
+    step = np.linalg.matrix_power(expm(Ft * (dt / 3)), 3)
+    stride = min(_block(samples) + 1, samples - 1)
+    idx = np.arange(0, samples, stride)
+    z = orbit_stack(np.linalg.matrix_power(step, stride), z3 / scale, idx.size)
+    if idx[-1] != samples - 1:
+        last = np.linalg.matrix_power(step, samples - 1 - int(idx[-1])) @ z[:, -1, :, None]
+        z = np.concatenate([z, last.transpose(0, 2, 1)], axis=1)
+        idx = np.append(idx, samples - 1)
+    rows = np.asarray(rows)
+    ref = (z[:, :, rows] * scale[:, None, rows]).transpose(0, 2, 1)
+    return idx, (ref[0] if single else ref)
+
+
 def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, scale: float = 1.0, watch=None,
            rows=None):
     """The exact solution: one linear system over the run, or piecewise between strand switches
@@ -165,16 +238,20 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, s
         out, steps, info = piecewise_exact(network, t, x0, cfg.max_events, scale, watch)
         return out, steps, 0, info
     dt = t[1] - t[0]
-    F = augmented_matrix(network)
+    F, balancing = one_piece(network)
     z0 = np.concatenate([x0, network.generators(0.0)])
     parts = 1 if scale == 1.0 else 3
-    wanted = np.arange(network.size) if rows is None else np.arange(network.size)[rows]
-    # the result itself is the one array written (np.zeros: rows never written stay untouched)
-    x = np.empty((network.size, t.size)) if rows is None else np.zeros((network.size, t.size))
+    if rows is None:
+        # every row of z into one array: the states, then the generators (the outputs read
+        # their sines off it instead of evaluating sin w t again)
+        z = _propagate(F, z0, dt, t.size, parts, scale=balancing)
+        return z[:network.size], t.size - 1, 0, {"generators": z[network.size:], "one_piece": True}
+    wanted = np.arange(network.size)[rows]
+    x = np.zeros((network.size, t.size))     # rows never written stay zero
     if wanted.size and np.all(np.diff(wanted) == 1):
-        _propagate(F, z0, dt, t.size, parts, wanted, out=x[wanted[0]:wanted[-1] + 1])
+        _propagate(F, z0, dt, t.size, parts, wanted, out=x[wanted[0]:wanted[-1] + 1], scale=balancing)
     else:
-        x[wanted] = _propagate(F, z0, dt, t.size, parts, wanted)
+        x[wanted] = _propagate(F, z0, dt, t.size, parts, wanted, scale=balancing)
     return x, t.size - 1, 0, {}
 
 
@@ -525,10 +602,8 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
                 return radau
         result = fine
     if result.error_relative > cfg.error_tol:
-        at = result.t[int(np.argmax(np.abs(result.states[result.error_row] - result.error_reference_states)))] \
-            if result.error_reference_states is not None else result.t[-1]
         message = (f"error estimate {result.error_estimate:.3g} {result.error_unit} on {result.error_signal} "
-                   f"(largest near t = {at:.6g} s) is {result.error_relative:.2g} of its scale "
+                   f"(largest near t = {result.error_at:.6g} s) is {result.error_relative:.2g} of its scale "
                    f"{result.error_scale:.4g} {result.error_unit}, above the tolerance {cfg.error_tol:g}; "
                    f"tried {', '.join(tried)}")
         if not cfg.accept_error:
@@ -550,7 +625,7 @@ def _run(network, t, x0, cfg, method, reason, scale: float = 1.0, watch: tuple |
     wall = time.perf_counter() - start
     if not np.all(np.isfinite(x)):
         raise SimulationError(f"method {method} gave non-finite values; try another `method`")
-    result = _outputs(network, t, x, method, reason, wall, steps, calls, extra)
+    result = _outputs(network, t, x, method, reason, wall, steps, calls, extra, extra.pop("generators", None))
     if spy is not None:
         result.extremes = spy.result
         result.integrals = extra.pop("integrals")
@@ -589,8 +664,7 @@ def conditioning(network: Network, t_end: float) -> float:
     its fastest time constants the run spans)."""
     norm = network.__dict__.get("_balanced_norm")
     if norm is None:                           # a property of the network's matrices: once per network
-        F = augmented_matrix(network)
-        s = balance(F)
+        F, s = one_piece(network)
         norm = network.__dict__["_balanced_norm"] = float(np.abs(F / s[:, None] * s[None, :]).sum(axis=0).max())
     return EPS * norm * t_end
 
@@ -599,30 +673,38 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
                    reference: tuple[np.ndarray, str] | None = None) -> None:
     """Fill the result's error estimate: per speed signal, the largest difference to a second
     computation that shares neither rounding nor partition (exact: another internal step and
-    another scaling of A h; scipy's methods: the exact solution, or Radau at 1/100 of the
+    another scaling of A h, at a subset of the samples where the run is one linear piece
+    (:func:`reference_rows`); scipy's methods: the exact solution, or Radau at 1/100 of the
     tolerances where no exact solution exists), plus the conditioning floor
     :func:`conditioning` times the signal's scale."""
     n, method, t = network.n, result.method, result.t
+    speeds = result.states[n:2 * n]
+    idx = None                                  # the samples compared (None: every one)
     if reference is not None:
         ref, label = reference
-    elif method == "exact":     # only the speed rows are compared
-        ref = _exact(network, t, x0, cfg, scale=0.7, rows=range(n, 2 * n))[0]
+        ref = ref[n:2 * n]
+    elif method == "exact" and result.extra.get("one_piece"):
+        F, balancing = one_piece(network)
+        idx, ref = reference_rows(F, np.concatenate([x0, network.generators(0.0)]), float(t[1] - t[0]), t.size,
+                                  range(n, 2 * n), balancing)
+        label = "exact with another internal step and scaling of A h"
+    elif method == "exact":
+        ref = _exact(network, t, x0, cfg, scale=0.7, rows=range(n, 2 * n))[0][n:2 * n]
         label = "exact with another internal step and scaling of A h"
     elif network.linear:
-        ref = _exact(network, t, x0, cfg, rows=range(n, 2 * n))[0]
+        ref = _exact(network, t, x0, cfg, rows=range(n, 2 * n))[0][n:2 * n]
         label = "exact solution"
     else:
         tight = SolverConfig("radau", cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, cfg.max_events, False)
-        ref = METHODS["radau"](network, t, x0, tight)[0]
+        ref = METHODS["radau"](network, t, x0, tight)[0][n:2 * n]
         label = "radau at 1/100 of the tolerances"
     names = network.state_names()
     result.extra["error_tol"] = cfg.error_tol
     floor = conditioning(network, float(t[-1])) if network.linear else 0.0
     scales: dict[str, float] = {}
-    speeds = result.states[n:2 * n]
     peak = np.maximum(speeds.max(axis=1), -speeds.min(axis=1))    # max |speed| per row, no temporary
-    apart = speeds - ref[n:2 * n]
-    apart = np.maximum(apart.max(axis=1), -apart.min(axis=1))
+    diff = (speeds if idx is None else speeds[:, idx]) - ref
+    apart = np.maximum(diff.max(axis=1), -diff.min(axis=1))
     for k in range(n, 2 * n):
         name, unit = names[k]
         scales[unit] = max(scales.get(unit, 0.0), float(peak[k - n]))
@@ -640,26 +722,29 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
     result.error_unit, result.error_scale = unit, float(scale)
     result.error_estimate = errors[result.error_signal]
     result.error_reference = label
-    result.error_reference_states = ref[worst[1]]
+    at = int(np.argmax(np.abs(diff[row - n])))
+    result.error_at = float(t[at if idx is None else idx[at]])
 
 
-def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) -> SimResult:
+def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra, g=None) -> SimResult:
     """States, accelerations and every element's outputs (:meth:`Network.outputs`), each an
     array expression over all samples. A run that is one linear piece (no strands, no time
-    break points) takes its accelerations from one product, :func:`one_piece_derivative`."""
+    break points) takes its accelerations from one product, :func:`one_piece_accelerations`.
+    ``g``: the generators at ``t`` where the run propagated them with the states (else they
+    are evaluated here, once for every output)."""
     n = network.n
     signals, units = {}, {}
     for (name, unit), row in zip(network.state_names(), x):
         signals[name], units[name] = row, unit
-    network.seed_generators(t, network.generators(t))    # evaluated once for every output
+    network.seed_generators(t, network.generators(t) if g is None else g)
     try:
         if network.smooth and network.linear:
-            dx = one_piece_derivative(network, t, x)
+            accel = one_piece_accelerations(network, t, x)
         else:
-            dx = network.derivative(t, x)
+            accel = network.derivative(t, x)[n:2 * n]
         for k, (name, unit) in enumerate(network.accel_names()):
-            signals[name], units[name] = dx[n + k], unit
-        for name, (value, unit) in network.outputs(t, x, dx).items():
+            signals[name], units[name] = accel[k], unit
+        for name, (value, unit) in network.outputs(t, x, accel).items():
             signals[name], units[name] = value, unit
     finally:
         network.seed_generators(t, None)
@@ -667,19 +752,15 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra) 
                      steps=steps, rhs_calls=calls, states=x, extra=extra)
 
 
-def one_piece_derivative(network: Network, t: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """x' = A x + B g(t) over every sample of a run that is one linear piece (a smooth linear
-    network): two products, no grouping of the samples by strand pattern or time piece."""
+def one_piece_accelerations(network: Network, t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The coordinates' accelerations, rows ``n:2n`` of x' = A x + B g(t), over every sample
+    of a run that is one linear piece (a smooth linear network): one product for every row,
+    one more for the rows an input drives; no grouping of the samples by strand pattern or
+    time piece, and none of x' 's other rows."""
     A, B = network.first_order()
     n = network.n
-    dx = np.empty_like(x)
-    if B[:n].any() or A[:n, :n].any() or A[:n, 2 * n:].any() or not np.array_equal(A[:n, n:2 * n], np.eye(n)):
-        np.matmul(A, x, out=dx)                # (no element kind stamps the angle rows today)
-        first = 0
-    else:
-        dx[:n] = x[n:2 * n]                    # phi' = omega: A's first rows are [0 I 0], exactly
-        np.matmul(A[n:], x, out=dx[n:])        # accelerations and the elements' own states
-        first = n
-    rows = first + np.flatnonzero(B[first:].any(axis=1))   # the rows an input drives (few)
-    dx[rows] += B[rows] @ network.generators(t)
-    return dx
+    accel = A[n:2 * n] @ x
+    rows = np.flatnonzero(B[n:2 * n].any(axis=1))     # the rows an input drives (few)
+    if rows.size:
+        accel[rows] += B[n + rows] @ network.generators(t)
+    return accel

@@ -21,8 +21,10 @@ The hooks an element may define (all optional, see :class:`Element`):
 - ``nonlinear_kind``, ``nonlinear(net, t, X, out, constrained)``, ``jacobian(net, x, jac)``:
   what the linear form cannot take (loads locked to a shaft angle), which sends the run to
   an implicit solver with this analytic Jacobian;
-- ``outputs(net, t, X, dX)``: ``{signal: (array, SI unit)}``; ``outputs_of(net, elements, t,
-  X, dX)`` (a classmethod) gives those of several elements of the kind at once.
+- ``outputs(net, t, X, accel)``: ``{signal: (array, SI unit)}`` from the states ``X`` and the
+  coordinates' accelerations ``accel`` (rows ``n:2n`` of x', nothing else of it);
+  ``outputs_of(net, elements, t, X, accel)`` (a classmethod) gives those of several elements
+  of the kind at once.
 
 Pint quantities are accepted wherever an element takes an SI float: they are converted to
 the SI unit the kind's ``UNITS`` gives the field (``Inertia(name, J=Q_(3.5, "g*m^2"))``), and
@@ -91,18 +93,19 @@ class Element:
         """Angular frequencies of sinusoids in time [rad/s]."""
         return []
 
-    def outputs(self, net, t, X, dX) -> dict:
-        """{signal: (array over t, SI unit)}."""
+    def outputs(self, net, t, X, accel) -> dict:
+        """{signal: (array over t, SI unit)} from the states ``X`` and the coordinates'
+        accelerations ``accel``."""
         return {}
 
     @classmethod
-    def outputs_of(cls, net, elements, t, X, dX) -> dict:
+    def outputs_of(cls, net, elements, t, X, accel) -> dict:
         """The outputs of several elements of this kind at once, in their order (a kind with
         many members overrides it with one array expression over all of them and every
         sample; by default each element gives its own)."""
         out = {}
         for el in elements:
-            out.update(el.outputs(net, t, X, dX))
+            out.update(el.outputs(net, t, X, accel))
         return out
 
 
@@ -222,14 +225,14 @@ class Coupling(Element):
     def matrices(self, net) -> list:
         return [(self.deflection(net), self.C, self.d)]
 
-    def outputs(self, net, t, X, dX) -> dict:
+    def outputs(self, net, t, X, accel) -> dict:
         g = self.deflection(net)
         n = net.n
         unit = "N" if net.node(self.i).translation else "N m"
         return {f"T_{self.name}": (self.C * (g @ X[:n]) + self.d * (g @ X[n:2 * n]), unit)}
 
     @classmethod
-    def outputs_of(cls, net, elements, t, X, dX) -> dict:
+    def outputs_of(cls, net, elements, t, X, accel) -> dict:
         """Every coupling's torque from two products: the deflections ``g . phi`` and their
         rates ``g . omega`` of all couplings (rows g over the coordinates), then
         ``C (g . phi) + d (g . omega)``. (Not ``(C g) . phi``: the angles grow over a run and
@@ -366,13 +369,13 @@ class Load(Element):
             k = self.order * f
             jac[net.n + c, c] -= f * k * self.amplitude * np.cos(k * x[c] + self.phase) / net.mass[c]
 
-    def outputs(self, net, t, X, dX) -> dict:
+    def outputs(self, net, t, X, accel) -> dict:
         c, f = net.coord(self.node)
         unit = "N" if net.node(self.node).translation else "N m"
         return {f"load_{self.node}": (np.broadcast_to(self.torque(t, f * X[c]), np.shape(t)), unit)}
 
     @classmethod
-    def outputs_of(cls, net, elements, t, X, dX) -> dict:
+    def outputs_of(cls, net, elements, t, X, accel) -> dict:
         """Loads summed per node; a sinusoid in time from the network's generator rows
         ``sin w t``, ``cos w t`` (computed once for all loads, or propagated with the states
         by an exact run): ``sin(w t + phase) = cos(phase) sin w t + sin(phase) cos w t``."""
@@ -381,7 +384,7 @@ class Load(Element):
         g = None
         for el in elements:
             if el.in_angle or el.table or not (el.amplitude and el.omega) or not shape:
-                (name, value), = el.outputs(net, t, X, dX).items()
+                (name, value), = el.outputs(net, t, X, accel).items()
             else:
                 if g is None:
                     g = net.generators(t)
@@ -420,11 +423,11 @@ class Prescribed(Element):
     def tables(self) -> list[Points]:
         return [self.accel] if self.accel else []
 
-    def outputs(self, net, t, X, dX) -> dict:
+    def outputs(self, net, t, X, accel) -> dict:
         c, f = net.coord(self.node)
         free = net.derivative(t, X, constrained=False)
         unit = "N" if net.node(self.node).translation else "N m"
-        return {f"T_drive_{self.node}": (net.mass[c] * (dX[net.n + c] - free[net.n + c]) / f, unit)}
+        return {f"T_drive_{self.node}": (net.mass[c] * (accel[c] - free[net.n + c]) / f, unit)}
 
 
 @dataclass(frozen=True)
@@ -458,7 +461,7 @@ class SpeedLoop(Element):
         ra, rc = piece(self.reference, p.t_mid)
         p.torque(self.node, a + self.gain * ra, c + self.gain * rc)
 
-    def outputs(self, net, t, X, dX) -> dict:
+    def outputs(self, net, t, X, accel) -> dict:
         c, f = net.coord(self.node)
         ff = piecewise(self.feedforward, t) if self.feedforward else 0.0
         torque = ff + self.gain * (piecewise(self.reference, t) - f * X[net.n + c])

@@ -735,7 +735,7 @@ class Network:
         torques = Coupling.outputs_of(self, self.couplings, None, x, None)
         return {c.name: torques[f"T_{c.name}"][0] for c in self.couplings}
 
-    def node_signals(self, x: np.ndarray, dx: np.ndarray) -> dict[str, tuple[np.ndarray, str]]:
+    def node_signals(self, x: np.ndarray, accel: np.ndarray) -> dict[str, tuple[np.ndarray, str]]:
         """Angle, speed and acceleration of every node that is not a coordinate itself (geared
         to one, or condensed): ``node_row . q`` and its derivatives, one product for all."""
         n, out = self.n, {}
@@ -743,13 +743,13 @@ class Network:
         if not idx:
             return out
         R = self.T[idx]
-        phi, omega, accel = R @ x[:n], R @ x[n:2 * n], R @ dx[n:2 * n]
+        phi, omega, acc = R @ x[:n], R @ x[n:2 * n], R @ accel
         for q, k in enumerate(idx):
             nd = self.nodes[k]
             lin = "m" if nd.translation else "rad"
             out[f"{'x' if nd.translation else 'phi'}_{nd.name}"] = (phi[q], lin)
             out[f"{'v' if nd.translation else 'omega'}_{nd.name}"] = (omega[q], f"{lin}/s")
-            out[f"accel_{nd.name}"] = (accel[q], f"{lin}/s^2")
+            out[f"accel_{nd.name}"] = (acc[q], f"{lin}/s^2")
         return out
 
     def linear_rows(self) -> dict[str, np.ndarray]:
@@ -761,21 +761,21 @@ class Network:
         m = self.size
         eye = np.eye(m)
         rows = {name: eye[k] for k, (name, _) in enumerate(self.state_names())}
-        for name, (row, _) in self.node_signals(eye, np.zeros_like(eye)).items():
+        for name, (row, _) in self.node_signals(eye, np.zeros((self.n, m))).items():
             if not name.startswith("accel_"):
                 rows[name] = np.asarray(row, dtype=float)
         for name, row in self.coupling_torques(eye).items():
             rows[f"T_{name}"] = np.asarray(row, dtype=float)
         return rows
 
-    def outputs(self, t: np.ndarray, x: np.ndarray, dx: np.ndarray) -> dict[str, tuple[np.ndarray, str]]:
+    def outputs(self, t: np.ndarray, x: np.ndarray, accel: np.ndarray) -> dict[str, tuple[np.ndarray, str]]:
         """Every element's outputs {signal: (array over t, SI unit)}: coupling torques, strand
         forces, loads, drive torques, and the angles of the nodes that are not coordinates.
         Loads on one node are summed. Each run of elements of one kind gives its outputs at
         once (``outputs_of``: one array expression per kind over every sample)."""
         out = {}
         if self.couplings:
-            out.update(Coupling.outputs_of(self, self.couplings, t, x, dx))
+            out.update(Coupling.outputs_of(self, self.couplings, t, x, accel))
         for name, force in self.strand_forces(t, x).items():
             out[f"F_{name}"] = (force, "N")
         rest = [el for el in self.elements if not isinstance(el, Coupling)]
@@ -785,12 +785,12 @@ class Network:
             b = a + 1
             while b < len(rest) and type(rest[b]) is kind:
                 b += 1
-            for name, (value, unit) in kind.outputs_of(self, rest[a:b], t, x, dx).items():
+            for name, (value, unit) in kind.outputs_of(self, rest[a:b], t, x, accel).items():
                 if name in out and name.startswith("load_"):
                     value = out[name][0] + value
                 out[name] = (np.array(value, dtype=float, copy=True), unit)
             a = b
-        out.update(self.node_signals(x, dx))
+        out.update(self.node_signals(x, accel))
         return out
 
     def energy(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

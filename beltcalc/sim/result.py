@@ -49,7 +49,7 @@ class SimResult:
     error_relative: float = 0.0
     error_scale: float = 0.0
     error_row: int = 0
-    error_reference_states: np.ndarray | None = None
+    error_at: float = 0.0
     warnings: list = field(default_factory=list)
     integrals: np.ndarray | None = None
     extremes: dict = field(default_factory=dict)

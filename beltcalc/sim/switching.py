@@ -49,6 +49,7 @@ from scipy.linalg import expm
 from scipy.linalg.lapack import dgebal
 
 from beltcalc.errors import SimulationError
+from beltcalc.sim.scalar import brentq     # scipy's, bit for bit, without importing scipy.optimize
 
 _csr_matvec = ...   # scipy's C kernel behind ``csr @ vector``: looked up on the sparse path's first use
 
@@ -76,14 +77,6 @@ CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
-
-
-def brentq(*args, **kwargs) -> float:
-    """``scipy.optimize.brentq``, imported on first use: scipy.optimize is about a quarter of
-    a simulate command's start-up, and a run without strands never locates a switch."""
-    from scipy.optimize import brentq as root
-
-    return root(*args, **kwargs)
 
 
 def balance(F: np.ndarray) -> np.ndarray:
@@ -125,18 +118,36 @@ def _taylor(Ft: np.ndarray, Z: np.ndarray, L: float) -> np.ndarray:
     V = np.empty((TERMS, *Z.shape))
     V[0] = Z
     M = Ft.T * L
-    for j in range(1, TERMS):
-        V[j] = (V[j - 1] @ M) / j
+    matmul, divide = np.matmul, np.divide
+    for j in range(1, TERMS):                # in place: (V[j-1] @ M) / j, without temporaries
+        v = V[j]
+        matmul(V[j - 1], M, out=v)
+        divide(v, j, out=v)
     return V
 
 
 def _horner(V: np.ndarray, s) -> np.ndarray:
     """sum_j s^j V[j]; s a scalar, or one value per row of V[j]."""
     s = np.asarray(s, dtype=float)
+    if s.ndim:
+        s = s[:, None]
+    else:
+        s = float(s)
     out = V[-1].copy()
-    for j in range(TERMS - 2, -1, -1):
-        out = out * (s[:, None] if s.ndim else s) + V[j]
+    multiply, add = np.multiply, np.add
+    for j in range(TERMS - 2, -1, -1):       # in place: out * s + V[j]
+        multiply(out, s, out=out)
+        add(out, V[j], out=out)
     return out
+
+
+def _horner_float(c: list[float], s: float) -> float:
+    """sum_j c[j] s^j on floats (c lowest first): numpy's ``polyval`` operation for
+    operation, without its per-call cost."""
+    y = c[-1]
+    for j in range(len(c) - 2, -1, -1):
+        y = c[j] + y * s
+    return y
 
 
 class Mode:
@@ -418,11 +429,20 @@ def _first_fire(c: np.ndarray, d: float, tol: float, from_start: bool, limit: fl
     from <= 0 to > 0 and goes on beyond ``tol`` (an excursion that stays within ``tol`` is a
     graze). ``from_start`` False ignores an excursion already under way at s = 0 (a restart
     just decided it); True counts one that starts at s = 0 from within ``tol``."""
-    p = np.polynomial.polynomial.Polynomial(d * c)
-    dp, ddp = p.deriv(), p.deriv(2)
-    M2 = float(np.sum(np.abs(ddp.coef)))                 # max |p''| on [0, 1]
-    grid = list(np.linspace(0.0, limit, 33))
-    vals = list(p(np.array(grid)))
+    pc = d * c
+    dpc = np.arange(1, pc.size) * pc[1:]                 # p' and p'' (numpy's polyder, operation for operation)
+    M2 = float(np.sum(np.abs(np.arange(1, dpc.size) * dpc[1:])))     # max |p''| on [0, 1]
+    pl, dpl = pc.tolist(), dpc.tolist()
+
+    def p(x: float) -> float:
+        return _horner_float(pl, x)
+
+    def dp(x: float) -> float:
+        return _horner_float(dpl, x)
+
+    grid = np.linspace(0.0, limit, 33)
+    vals = np.polynomial.polynomial.polyval(grid, pc).tolist()
+    grid = grid.tolist()
     # refine gaps where the sampled values cannot rule out a hidden dip through zero
     i, guard = 0, 0
     while i < len(grid) - 1 and guard < 4000:

@@ -12,7 +12,7 @@ import pytest
 from scipy.optimize import brentq as scipy_brentq
 from scipy.optimize import minimize_scalar
 
-from beltcalc.sim.scalar import bounded_minimum, brentq, golden_minimum
+from beltcalc.sim.scalar import bounded_minimum, brentq, golden_minimum, horner
 
 
 def _outcome(call):
@@ -174,3 +174,14 @@ def test_the_response_peaks_are_scipys():
         fr._peaks = real
     assert ours.peaks == theirs.peaks
     assert sum(len(p) for p in ours.peaks.values()) >= 2
+
+
+def test_horner_is_numpys_polyval():
+    # the watch and the switch location evaluate the step's Taylor polynomial (34 terms) so
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        c = (rng.standard_normal(34) / np.cumprod(np.arange(1, 35)) * 10.0 ** rng.integers(-8, 8)).tolist()
+        x = np.linspace(rng.uniform(-1, 0), rng.uniform(0, 1), 257)
+        ref = np.polynomial.polynomial.polyval(x, np.array(c))
+        assert horner(c, x).tobytes() == ref.tobytes()
+        assert [horner(c, float(v)) for v in x] == ref.tolist()

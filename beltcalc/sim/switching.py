@@ -49,7 +49,7 @@ from scipy.linalg import expm
 from scipy.linalg.lapack import dgebal
 
 from beltcalc.errors import SimulationError
-from beltcalc.sim.scalar import brentq     # scipy's, bit for bit, without importing scipy.optimize
+from beltcalc.sim.scalar import brentq, horner     # brentq: scipy's, bit for bit, without scipy.optimize
 
 _csr_matvec = ...   # scipy's C kernel behind ``csr @ vector``: looked up on the sparse path's first use
 
@@ -139,15 +139,6 @@ def _horner(V: np.ndarray, s) -> np.ndarray:
         multiply(out, s, out=out)
         add(out, V[j], out=out)
     return out
-
-
-def _horner_float(c: list[float], s: float) -> float:
-    """sum_j c[j] s^j on floats (c lowest first): numpy's ``polyval`` operation for
-    operation, without its per-call cost."""
-    y = c[-1]
-    for j in range(len(c) - 2, -1, -1):
-        y = c[j] + y * s
-    return y
 
 
 class Mode:
@@ -435,13 +426,13 @@ def _first_fire(c: np.ndarray, d: float, tol: float, from_start: bool, limit: fl
     pl, dpl = pc.tolist(), dpc.tolist()
 
     def p(x: float) -> float:
-        return _horner_float(pl, x)
+        return horner(pl, float(x))
 
     def dp(x: float) -> float:
-        return _horner_float(dpl, x)
+        return horner(dpl, float(x))
 
     grid = np.linspace(0.0, limit, 33)
-    vals = np.polynomial.polynomial.polyval(grid, pc).tolist()
+    vals = horner(pl, grid).tolist()
     grid = grid.tolist()
     # refine gaps where the sampled values cannot rule out a hidden dip through zero
     i, guard = 0, 0

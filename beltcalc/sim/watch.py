@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from beltcalc.sim.scalar import bounded_minimum
+from beltcalc.sim.scalar import bounded_minimum, horner
 
 GRID = 257          # points per refinement interval before the local optimum is polished
 
@@ -148,18 +148,8 @@ class Watch:
         of s: (on an array of s, on one float s)."""
         row = self.O[k]
         if mode.K == 0:
-            c = side * (mode.taylor(z) @ row)          # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
-            top, rest = float(c[-1]), c[-2::-1].tolist()
-
-            def f(s):
-                return np.polynomial.polynomial.polyval(s, c)
-
-            def f1(s: float) -> float:                  # Horner on floats: polyval's operations, without numpy
-                y = top
-                for cj in rest:
-                    y = cj + y * s
-                return y
-            return f, f1
+            c = (side * (mode.taylor(z) @ row)).tolist()      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
+            return (lambda s: horner(c, s)), (lambda s: horner(c, float(s)))
 
         def g(s):                                       # stiff ladder: forward from z
             return side * (mode.at(np.repeat(z[None], s.size, axis=0), s * mode.h) @ row)

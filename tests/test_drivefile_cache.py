@@ -1,0 +1,70 @@
+"""beltcalc.sim.drivefile reads each quantity text with pint once per process: a second build
+of a drive reads no text, gives the same numbers, and a refused text is refused again, the same,
+on every build (a refusal is not kept)."""
+
+import textwrap
+
+import pytest
+
+import beltcalc.units
+from beltcalc.catalogs import builtin_dir
+from beltcalc.sim import drivefile
+from beltcalc.sim.drivefile import DriveFile, DriveFileError
+
+
+def _counting(monkeypatch):
+    calls = []
+    real = beltcalc.units.parse_quantity
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(beltcalc.units, "parse_quantity", counted)
+    return calls
+
+
+def test_a_second_build_reads_no_text_and_gives_the_same_drive(monkeypatch):
+    f = DriveFile(builtin_dir() / "drives" / "conveyor.toml")
+    first = f.build()
+    calls = _counting(monkeypatch)
+    second = f.build()
+    assert [args for args in calls if isinstance(args[0], str)] == []      # numbers (a gear ratio) are not texts
+    assert second.inputs == first.inputs
+    assert second.notes == first.notes
+    assert (second.network.M == first.network.M).all()
+
+
+def test_the_material_table_is_read_once():
+    drivefile._material_table.cache_clear()
+    table = drivefile._materials(None, None)
+    assert table["steel"] == {"shear_modulus": 75e9, "density": 7850.0}       # catalogs/materials.toml
+    assert drivefile._materials(None, None) is table
+
+
+def test_a_refused_text_is_refused_again_on_every_build(tmp_path):
+    path = tmp_path / "d.toml"
+    path.write_text(textwrap.dedent("""\
+        [drive]
+        t_end = "1 s"
+
+        [[node]]
+        name = "a"
+        inertia = "1 kg*m^2"
+
+        [[node]]
+        name = "b"
+        inertia = "2 kg*m^2"
+
+        [[coupling]]
+        name = "c"
+        between = ["a", "b"]
+        stiffness = "5 kg"
+        """))
+    messages = []
+    for _ in range(2):
+        with pytest.raises(DriveFileError) as info:
+            DriveFile(path).build()
+        messages.append(str(info.value))
+    assert messages[0] == messages[1]
+    assert "'5 kg' is a mass" in messages[0]

@@ -10,6 +10,7 @@ modules that call it never import pint.
 from __future__ import annotations
 
 from dataclasses import fields
+from functools import cache
 
 from beltcalc.errors import InputError
 
@@ -44,12 +45,19 @@ def as_si(value, unit: str | None, where: str):
     return float(q.magnitude)
 
 
+@cache
+def _field_names(cls) -> tuple[str, ...]:
+    """The dataclass fields of ``cls``, looked up once per class (``dataclasses.fields``
+    builds its tuple on every call; an element is constructed thousands of times a study)."""
+    return tuple(f.name for f in fields(cls))
+
+
 def convert_fields(obj, units: dict[str, str | None]) -> None:
     """Convert every quantity-valued field of a (frozen) dataclass ``obj`` in place, by the
     SI unit ``units`` gives for it (a field not listed: base units)."""
-    for f in fields(obj):
-        value = getattr(obj, f.name)
+    for name in _field_names(type(obj)):
+        value = getattr(obj, name)
         if value.__class__ in _PLAIN:      # most fields: nothing to convert, no attribute look-ups
             continue
         if is_quantity(value):
-            object.__setattr__(obj, f.name, as_si(value, units.get(f.name), f"{type(obj).__name__}.{f.name}"))
+            object.__setattr__(obj, name, as_si(value, units.get(name), f"{type(obj).__name__}.{name}"))

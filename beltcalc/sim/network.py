@@ -194,6 +194,15 @@ class Network:
                 self.state_index[id(el)] = 2 * self.n + len(extra)
                 extra += el.states()
         self._extra_states = extra
+        # what the elements make of the network, asked many times a run: once
+        self._linear = not any(el.nonlinear_kind for el in self.elements)
+        self._ramp = any(el.tables() or el.breaks() for el in self.elements)
+        freqs: list[float] = []
+        for el in self.elements:
+            for w in el.frequencies():
+                if not any(math.isclose(w, v) for v in freqs):
+                    freqs.append(w)
+        self._freqs = tuple(freqs)
         self._condense_check()
         self._K0, self._D0 = self._assemble()
         self._G = np.array([s.geometry(self) for s in self.strands]).reshape(len(self.strands), self.n)
@@ -349,12 +358,12 @@ class Network:
         (tables): every load is constant, sinusoidal or tabulated in time, so an exact
         solution exists. An element whose terms are nonlinear (a load locked to a shaft angle:
         ``nonlinear_kind``) makes it nonlinear."""
-        return not any(el.nonlinear_kind for el in self.elements)
+        return self._linear
 
     @property
     def ramp(self) -> bool:
         """True when a piecewise-linear input needs the generator ``t``."""
-        return any(el.tables() or el.breaks() for el in self.elements)
+        return self._ramp
 
     @property
     def smooth(self) -> bool:
@@ -390,14 +399,18 @@ class Network:
         return [(f"accel_{c}", "m/s^2" if self._node[c].translation else "rad/s^2") for c in self.coords]
 
     def _assemble(self):
+        """K = G^T diag(C) G and D = G^T diag(d) G over every element's springs and dampers
+        (rows g of G on the deflections g . q): two products, made exactly symmetric (the
+        rounding of ``C_k g_ki g_kj`` depends on the order of its factors)."""
         n = self.n
-        K = np.zeros((n, n))
-        D = np.zeros((n, n))
-        for el in self.elements:
-            for g, C, d in el.matrices(self):
-                _add_outer(K, g, C)
-                _add_outer(D, g, d)
-        return K, D
+        stamps = [s for el in self.elements for s in el.matrices(self)]
+        if not stamps:
+            return np.zeros((n, n)), np.zeros((n, n))
+        G = np.array([g for g, _, _ in stamps], dtype=float).reshape(len(stamps), n)
+        C = np.array([c for _, c, _ in stamps], dtype=float)
+        d = np.array([d for _, _, d in stamps], dtype=float)
+        K, D = (G.T * C) @ G, (G.T * d) @ G
+        return 0.5 * (K + K.T), 0.5 * (D + D.T)
 
     def stiffness_damping(self, taut: tuple[bool, ...]) -> tuple[np.ndarray, np.ndarray]:
         """K and D with the strands that are ``taut``."""
@@ -411,12 +424,7 @@ class Network:
     # --- first-order form -------------------------------------------------------------------
     def frequencies(self) -> list[float]:
         """The distinct angular frequencies of the time-sinusoidal inputs [rad/s]."""
-        out = []
-        for el in self.elements:
-            for w in el.frequencies():
-                if not any(math.isclose(w, v) for v in out):
-                    out.append(w)
-        return out
+        return list(self._freqs)
 
     def generators(self, t: np.ndarray | float) -> np.ndarray:
         """g(t) = [1, (t), sin w1 t, cos w1 t, ...], shape (len(g),) or (len(g), len(t)).

@@ -253,39 +253,34 @@ def window_stats(t: np.ndarray, Y: np.ndarray) -> tuple[np.ndarray, np.ndarray, 
     return np.minimum(np.maximum(mean, lo), hi), 0.5 * (hi - lo), lo, hi
 
 
-def steady_stats(nets: Sequence, names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+def steady_stats(nets: Sequence, names: Sequence[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(mean, amplitude), each (runs, len(names)), of the exact periodic steady state of each
-    network (:func:`beltcalc.sim.frequency.steady_state`, the same operations), the complex
-    solves ``(j w I - A) X = B_c - j B_s`` of every run in one batched call. The networks
-    have the same size and one load frequency each (strands none, no ramp)."""
+    network (:func:`beltcalc.sim.frequency.steady_state`, the same operations: the means
+    by :func:`beltcalc.sim.frequency.mean_states` for the stack, the complex solves ``(j w I -
+    A) X = B_c - j B_s`` of every run in one batched call), and ``ok`` (runs,): False where a
+    run's drive does not balance (its single run says so). The networks have the same size
+    and one load frequency each (strands none, no ramp)."""
     from beltcalc.sim import frequency as fr
 
     R, q = len(nets), len(names)
     mean, amp = np.zeros((R, q)), np.zeros((R, q))
-    As, rhs, ws, rows = [], [], [], []
-    for r, net in enumerate(nets):
-        A, B = net.first_order(None, 1.0)
-        states, eye = [s for s, _ in net.state_names()], np.eye(net.size)
-        rr = [_output_row(net, y, states, eye) for y in names]
-        mean_x = fr._mean_state(A, B[:, 0])
-        for i, (row, power) in enumerate(rr):
-            mean[r, i] = float(row @ mean_x) if power == 0 else 0.0
-        w = net.frequencies()[0]
-        As.append(A)
-        rhs.append(B[:, 2] - 1j * B[:, 1])
-        ws.append(w)
-        rows.append(rr)
     if not R:
-        return mean, amp
-    A = np.stack(As)
+        return mean, amp, np.ones(0, dtype=bool)
+    AB = [net.first_order(None, 1.0) for net in nets]
+    A = np.stack([A for A, _ in AB])
+    mean_x, ok = fr.mean_states(A, np.stack([B[:, 0] for _, B in AB]))
+    net0 = nets[0]
+    states, eye = [s for s, _ in net0.state_names()], np.eye(net0.size)
+    rows = [[_output_row(net, y, states, eye) for y in names] for net in nets]
+    ws = [net.frequencies()[0] for net in nets]
     w = np.array(ws)
-    eye = np.eye(A.shape[1])
     M = 1j * w[:, None, None] * eye[None] - A
-    X = np.linalg.solve(M, np.stack(rhs)[:, :, None])[:, :, 0]
+    X = np.linalg.solve(M, np.stack([B[:, 2] - 1j * B[:, 1] for _, B in AB])[:, :, None])[:, :, 0]
     for r in range(R):
         for i, (row, power) in enumerate(rows[r]):
+            mean[r, i] = float(row @ mean_x[r]) if power == 0 else 0.0
             amp[r, i] = float(abs(complex(row @ X[r] * (1j * ws[r]) ** power)))
-    return mean, amp
+    return mean, amp, ok
 
 
 def _output_row(net, name: str, names: Sequence[str], eye: np.ndarray) -> tuple[np.ndarray, int]:
@@ -344,7 +339,9 @@ def _sewing(plan, X: np.ndarray) -> list[list[float] | None]:
         return out
     common = max(set(keys.values()), key=lambda k: sum(1 for v in keys.values() if v == k))
     runs = [r for r in nets if keys[r] == common]
-    ss_mean, ss_amp = steady_stats([nets[r] for r in runs], STEADY_SIGNALS)
+    ss_mean, ss_amp, ss_ok = steady_stats([nets[r] for r in runs], STEADY_SIGNALS)
+    runs = [r for r, good in zip(runs, ss_ok) if good]        # a drive that does not balance: its single run
+    ss_mean, ss_amp = ss_mean[ss_ok], ss_amp[ss_ok]
     steady = {r: [] for r in runs}
     for j, r in enumerate(runs):
         for name, (node, torque) in SHAFTS.items():

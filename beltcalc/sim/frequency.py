@@ -397,35 +397,60 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
 def _mean_state(A: np.ndarray, b0: np.ndarray) -> np.ndarray:
     """A particular constant-input steady state: x = a + N beta t with A a = N beta - b0 and
     A N = 0 (a drive turning at a constant speed); refused where the constant inputs make
-    the drive accelerate (the null space is defective: no balance).
-
-    ``A`` is balanced first (a diagonal similarity D^-1 A D, :func:`scipy.linalg.matrix_balance`),
-    so that the rank decision is not swamped by a stiffness many decades above the rest (a
-    stiff coupling's k/J of 1e16 beside a motor's 1e2 would count the motor's modes as null)."""
-    from scipy.linalg import matrix_balance
-
-    _, (scale, _) = matrix_balance(A, permute=False, separate=True)
-    return scale * _mean_state_balanced(A / scale[:, None] * scale[None, :], b0 / scale)
+    the drive accelerate (the null space is defective: no balance). One system of
+    :func:`mean_states`."""
+    a, ok = mean_states(A[None], b0[None])
+    if not ok[0]:
+        raise InputError("the constant torques do not balance: the drive accelerates without bound (no motor "
+                         "or ground holds it); no periodic steady state", param="drive")
+    return a[0]
 
 
-def _mean_state_balanced(A: np.ndarray, b0: np.ndarray) -> np.ndarray:
-    U, sv, Vt = np.linalg.svd(A)
-    tol = 1e-10 * (sv[0] if sv.size else 1.0)
-    null = int(np.sum(sv <= tol))
-    if null == 0:
-        return np.linalg.solve(A, -b0)
-    N = Vt[-null:].T.conj()                     # right null space
-    L = U[:, -null:]                            # left null space
-    LN = L.T @ N                                # N, L orthonormal: LN singular <=> a Jordan block at 0
-    if np.linalg.svd(LN, compute_uv=False).min() < 1e-8:
-        if np.linalg.norm(L.T @ b0) > 1e-12 * max(1.0, np.linalg.norm(b0)):
-            raise InputError("the constant torques do not balance: the drive accelerates without bound (no motor "
-                             "or ground holds it); no periodic steady state", param="drive")
-        beta = np.zeros(null)
-    else:
-        beta = np.linalg.solve(LN, L.T @ b0)    # the growth N beta that makes b0 - N beta solvable
-    a = np.linalg.lstsq(A, N @ beta - b0, rcond=None)[0]
-    return a
+def mean_states(A: np.ndarray, b0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_mean_state` of a stack of systems ``A`` (R, m, m), ``b0`` (R, m) at once (a
+    study's runs): ``(a, ok)``, ``ok[r]`` False where system r does not balance.
+
+    Each ``A`` is balanced first (a diagonal similarity D^-1 A D of powers of two,
+    :func:`beltcalc.sim.switching.balance`), so that the rank decision is not swamped by a
+    stiffness many decades above the rest (a stiff coupling's k/J of 1e16 beside a motor's
+    1e2 would count the motor's modes as null). With the SVD ``A = U S V^T`` (one batched
+    call), the null space is the singular values at most ``1e-10 s_max``: right ``N``, left
+    ``L``. ``L^T N`` singular means a Jordan block at 0: the drive balances only if ``L^T b0
+    = 0``. Otherwise ``beta = (L^T N)^-1 L^T b0`` and ``a`` is the least-squares solution of
+    ``A a = N beta - b0`` over the other singular values (the pseudo-inverse with the same
+    cut-off as the rank decision). Systems of one null dimension are solved together."""
+    from beltcalc.sim.switching import balance
+
+    R, m = b0.shape
+    scale = np.stack([balance(M) for M in A]) if R else np.ones((0, m))
+    At = A / scale[:, :, None] * scale[:, None, :]
+    bt = b0 / scale
+    a = np.zeros((R, m))
+    ok = np.ones(R, dtype=bool)
+    if R == 0 or m == 0:
+        return a, ok
+    U, sv, Vt = np.linalg.svd(At)
+    null = np.sum(sv <= 1e-10 * sv[:, :1], axis=1)
+    for q in np.unique(null):
+        idx = np.flatnonzero(null == q)
+        k = m - int(q)
+        y = -bt[idx]
+        if q:
+            N = Vt[idx, k:].transpose(0, 2, 1)                 # right null spaces (R', m, q)
+            L = U[idx, :, k:]                                   # left null spaces
+            LN = L.transpose(0, 2, 1) @ N
+            Lb = (L.transpose(0, 2, 1) @ bt[idx, :, None])[:, :, 0]
+            jordan = np.linalg.svd(LN, compute_uv=False).min(axis=1) < 1e-8
+            beta = np.zeros((idx.size, int(q)))
+            if np.any(~jordan):
+                beta[~jordan] = np.linalg.solve(LN[~jordan], Lb[~jordan, :, None])[:, :, 0]
+            bad = jordan & (np.linalg.norm(Lb, axis=1) > 1e-12 * np.maximum(1.0, np.linalg.norm(bt[idx], axis=1)))
+            ok[idx[bad]] = False
+            y = y + (N @ beta[:, :, None])[:, :, 0]
+        # the least-squares solution over the k kept singular values: V_k S_k^-1 U_k^T y
+        c = (U[idx, :, :k].transpose(0, 2, 1) @ y[:, :, None])[:, :, 0] / sv[idx, :k]
+        a[idx] = (Vt[idx, :k].transpose(0, 2, 1) @ c[:, :, None])[:, :, 0]
+    return scale * a, ok
 
 
 def _check_strands(net, mean_x: np.ndarray, X: dict) -> None:

@@ -165,3 +165,61 @@ def test_inverse_property(A):
     n = A.shape[0]
     assert_allclose(expm(A) @ expm(-A), np.eye(n), rtol=0,
                     atol=1e-12 * max(1.0, float(np.abs(A).sum(axis=0).max())) ** 2)
+
+
+# --- balance: LAPACK dgebal (job 'S') ------------------------------------------------------------
+
+def _project_matrices():
+    from beltcalc.sim.core import augmented_matrix
+    from beltcalc.sim.scenes import SCENES
+    from beltcalc.sim.scenes.drive import drive_scene
+
+    out = {}
+    for name, scene in SCENES.items():
+        out[name] = augmented_matrix(scene.build(dict(scene.values())))
+    conveyor = drive_scene("conveyor")
+    out["conveyor"] = augmented_matrix(conveyor.build(conveyor.values()))
+    return out
+
+
+def _dgebal(F: np.ndarray) -> np.ndarray:
+    from scipy.linalg.lapack import dgebal
+
+    return dgebal(F, scale=1, permute=0)[3]
+
+
+@pytest.mark.parametrize("name", ["sewing", "roller-table", "linear-axis", "conveyor"])
+def test_balance_equals_lapack_on_the_project_matrices(name):
+    from beltcalc.sim.linalg import balance
+
+    F = _project_matrices()[name]
+    assert_array_equal(balance(F), _dgebal(F))
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_balance_equals_lapack_on_badly_scaled_matrices(seed):
+    from beltcalc.sim.linalg import balance
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 30))
+    A = rng.standard_normal((n, n)) * 10.0 ** rng.uniform(-6, 6, (n, 1)) * 10.0 ** rng.uniform(-6, 6, (1, n))
+    A[rng.random((n, n)) < 0.3] = 0.0                       # sparse, as the drives' matrices are
+    d = balance(A)
+    assert_array_equal(d, _dgebal(A))
+    assert_array_equal(np.log2(d), np.round(np.log2(d)))     # powers of two
+    Ab = A / d[:, None] * d[None, :]
+    assert_array_equal(Ab / d[None, :] * d[:, None], A)      # the similarity is exact
+
+
+def test_balance_takes_stacks_and_refuses_non_finite():
+    from beltcalc.sim.linalg import balance
+
+    mats = list(_project_matrices().values())[:1] * 2
+    rng = np.random.default_rng(7)
+    mats.append(rng.standard_normal(mats[0].shape) * 10.0 ** rng.uniform(-4, 4, (mats[0].shape[0], 1)))
+    stack = np.stack(mats)
+    assert_array_equal(balance(stack), np.stack([_dgebal(m) for m in mats]))
+    assert balance(np.zeros((0, 0))).shape == (0,)
+    assert_array_equal(balance(np.zeros((3, 3))), np.ones(3))
+    with pytest.raises(ValueError, match="non-finite"):
+        balance(np.array([[1.0, np.nan], [0.0, 1.0]]))

@@ -48,7 +48,7 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-PASS_BYTES = 8 * 2 ** 20    # samples held by one pass of the batch (runs x samples x signals x 8 bytes)
+PASS_BYTES = 16 * 2 ** 20   # samples held by one pass of the batch (runs x samples x signals x 8 bytes)
 MARGIN = 1e-6               # a check whose utilisation is above 1 - MARGIN goes through the single run
 VERIFY_RTOL = 1e-9          # the chunk's check run: the batch's row against the single run's
 
@@ -56,10 +56,11 @@ VERIFY_RTOL = 1e-9          # the chunk's check run: the batch's row against the
 # --- the engine ----------------------------------------------------------------------------------
 
 def _balance(F: np.ndarray) -> np.ndarray:
-    """(runs, size) diagonal scalings of powers of two (:func:`beltcalc.sim.switching.balance`)."""
-    from beltcalc.sim.switching import balance
+    """(runs, size) diagonal scalings of powers of two, each run's own
+    (:func:`beltcalc.sim.linalg.balance`, as its single run balances it)."""
+    from beltcalc.sim.linalg import balance
 
-    return np.stack([balance(f) for f in F])
+    return balance(F)
 
 
 def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
@@ -268,7 +269,7 @@ def steady_stats(nets: Sequence, names: Sequence[str]) -> tuple[np.ndarray, np.n
         return mean, amp, np.ones(0, dtype=bool)
     AB = [net.first_order(None, 1.0) for net in nets]
     A = np.stack([A for A, _ in AB])
-    mean_x, ok = fr.mean_states(A, np.stack([B[:, 0] for _, B in AB]))
+    mean_x, ok = fr.mean_states(A, np.stack([B[:, 0] for _, B in AB]), _balance(A))
     net0 = nets[0]
     states, eye = [s for s, _ in net0.state_names()], np.eye(net0.size)
     rows = [[_output_row(net, y, states, eye) for y in names] for net in nets]

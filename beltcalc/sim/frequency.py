@@ -406,23 +406,25 @@ def _mean_state(A: np.ndarray, b0: np.ndarray) -> np.ndarray:
     return a[0]
 
 
-def mean_states(A: np.ndarray, b0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def mean_states(A: np.ndarray, b0: np.ndarray, scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`_mean_state` of a stack of systems ``A`` (R, m, m), ``b0`` (R, m) at once (a
     study's runs): ``(a, ok)``, ``ok[r]`` False where system r does not balance.
 
     Each ``A`` is balanced first (a diagonal similarity D^-1 A D of powers of two,
-    :func:`beltcalc.sim.switching.balance`), so that the rank decision is not swamped by a
+    :func:`beltcalc.sim.linalg.balance`), so that the rank decision is not swamped by a
     stiffness many decades above the rest (a stiff coupling's k/J of 1e16 beside a motor's
     1e2 would count the motor's modes as null). With the SVD ``A = U S V^T`` (one batched
     call), the null space is the singular values at most ``1e-10 s_max``: right ``N``, left
     ``L``. ``L^T N`` singular means a Jordan block at 0: the drive balances only if ``L^T b0
     = 0``. Otherwise ``beta = (L^T N)^-1 L^T b0`` and ``a`` is the least-squares solution of
     ``A a = N beta - b0`` over the other singular values (the pseudo-inverse with the same
-    cut-off as the rank decision). Systems of one null dimension are solved together."""
-    from beltcalc.sim.switching import balance
+    cut-off as the rank decision). Systems of one null dimension are solved together.
+    ``scale`` (R, m): the balancing, where the caller has one for the stack."""
+    from beltcalc.sim.linalg import balance
 
     R, m = b0.shape
-    scale = np.stack([balance(M) for M in A]) if R else np.ones((0, m))
+    if scale is None:
+        scale = balance(A) if R else np.ones((0, m))
     At = A / scale[:, :, None] * scale[:, None, :]
     bt = b0 / scale
     a = np.zeros((R, m))

@@ -223,3 +223,25 @@ def test_balance_takes_stacks_and_refuses_non_finite():
     assert_array_equal(balance(np.zeros((3, 3))), np.ones(3))
     with pytest.raises(ValueError, match="non-finite"):
         balance(np.array([[1.0, np.nan], [0.0, 1.0]]))
+
+
+def test_a_stack_is_balanced_as_each_matrix_alone():
+    # from STACK_FROM matrices on, every matrix's row i at once (closed-form doubling loops):
+    # the same scales as the one-matrix loop and as LAPACK, on mixed, sparse and extreme ones
+    from beltcalc.sim import linalg
+
+    rng = np.random.default_rng(3)
+    mats = []
+    for k in range(60):
+        n = 9
+        A = rng.standard_normal((n, n)) * 10.0 ** rng.uniform(-8, 8, (n, 1)) * 10.0 ** rng.uniform(-8, 8, (1, n))
+        A[rng.random((n, n)) < 0.3] = 0.0
+        mats.append(A)
+    mats.append(np.diag([1e-300, 1.0, 1e300, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]) + 1e-200)   # near the guards
+    mats.append(np.zeros((9, 9)))
+    stack = np.stack(mats)
+    assert stack.shape[0] >= linalg.STACK_FROM
+    got = linalg.balance(stack)
+    assert_array_equal(got[:-2], np.stack([linalg._balance_one(m.copy()) for m in mats[:-2]]))
+    assert_array_equal(got, np.stack([_dgebal(m) for m in mats]))
+    assert_array_equal(got[-2], linalg.balance(mats[-2]))          # the extreme one, alone

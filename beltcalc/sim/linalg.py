@@ -524,6 +524,7 @@ _SFMIN1 = np.finfo(float).tiny / np.finfo(float).eps * 2.0   # dlamch('S') / dla
 _SFMAX1 = 1.0 / _SFMIN1
 _SFMIN2 = _SFMIN1 * 2.0
 _SFMAX2 = 1.0 / _SFMIN2
+STACK_FROM = 8        # stacks of this many matrices or more: every matrix's row i at once
 MAX_SWEEPS = 200      # a bound on the sweeps (dgebal loops until nothing changes; each change
                       # lowers a row's and column's norm sum by 5 %, so it ends long before)
 
@@ -552,21 +553,36 @@ def balance(F) -> np.ndarray:
     if A.size == 0:
         return np.ones(A.shape[:-1])
     flat = A.reshape(-1, n, n)
+    mag = np.abs(flat).reshape(flat.shape[0], -1)
+    tiny = np.where(mag > 0.0, mag, np.inf).min(axis=1)
+    wide = (mag.max(axis=1) > 2.0 ** 480) | (tiny < 2.0 ** -480)   # squares would over- or underflow
+    plain = np.flatnonzero(~wide)
     out = np.ones((flat.shape[0], n))
-    for k in range(flat.shape[0]):
-        out[k] = _balance_one(flat[k].copy())
+    if plain.size >= STACK_FROM:
+        out[plain] = _balance_stack(flat[plain])
+    else:
+        for k in plain:
+            out[k] = _balance_one(flat[k].copy())
+    for k in np.flatnonzero(wide):
+        out[k] = _balance_one(flat[k].copy(), safe=True)
     return out.reshape(A.shape[:-1])
 
 
-def _balance_one(B: np.ndarray) -> np.ndarray:
+def _balance_one(B: np.ndarray, safe: bool = False) -> np.ndarray:
+    """dgebal's loop on one matrix ``B`` (scaled in place). ``safe``: 2-norms that neither
+    over- nor underflow (``math.hypot``, as dgebal's ``dnrm2`` scales), for entries beyond
+    2^+-480; else ``sqrt(x . x)``."""
     n = B.shape[0]
     scale = [1.0] * n
-    sqrt = math.sqrt
+    sqrt, hypot = math.sqrt, math.hypot
     for _ in range(MAX_SWEEPS):
         changed = False
         for i in range(n):
             col, row = B[:, i], B[i]
-            c, r = sqrt(float(col @ col)), sqrt(float(row @ row))
+            if safe:
+                c, r = hypot(*col.tolist()), hypot(*row.tolist())
+            else:
+                c, r = sqrt(float(col @ col)), sqrt(float(row @ row))
             if c == 0.0 or r == 0.0:
                 continue
             g, f, s = r / 2.0, 1.0, c + r
@@ -588,3 +604,57 @@ def _balance_one(B: np.ndarray) -> np.ndarray:
         if not changed:
             break
     return np.array(scale)
+
+
+def _balance_stack(A: np.ndarray) -> np.ndarray:
+    """:func:`_balance_one` of every matrix of a stack (R, n, n) at once: row ``i`` of every
+    matrix, then row ``i + 1``, ..., with the same decisions. The two doubling loops are
+    closed forms on the exponents (exact: every value is scaled by powers of two): with
+    ``c = mc 2^ec``, ``r = mr 2^er`` (``frexp``) and ``e = er - ec``, loop 1 doubles ``k``
+    times, the least ``k >= 0`` with ``c 2^(2k+1) >= r``: ``k = max(0, (e + [mc < mr]) // 2)``;
+    where it did not run, loop 2 halves ``j`` times, the least ``j >= 0`` with ``c < r
+    2^(2j+1)``: ``j = max(0, ([mc >= mr] - e) // 2)``. A matrix whose values would come
+    within 2^124 of dgebal's overflow and underflow guards is balanced again alone by
+    :func:`_balance_one`. A matrix is done when a sweep changes nothing in it; sweeps go on
+    for the others (at most :data:`MAX_SWEEPS`)."""
+    B = A.copy()
+    R, n, _ = B.shape
+    scale = np.ones((R, n))
+    active = np.arange(R)
+    extreme = np.zeros(R, dtype=bool)
+    lo, hi = 2.0 ** -900, 2.0 ** 900
+    for _ in range(MAX_SWEEPS):
+        changed = np.zeros(active.size, dtype=bool)
+        sub = B[active]
+        for i in range(n):
+            col, row = sub[:, :, i], sub[:, i, :]
+            c = np.sqrt(np.einsum("rj,rj->r", col, col))
+            r = np.sqrt(np.einsum("rj,rj->r", row, row))
+            live = (c != 0.0) & (r != 0.0)
+            mc, ec = np.frexp(np.where(live, c, 1.0))
+            mr, er = np.frexp(np.where(live, r, 1.0))
+            e = er.astype(np.int64) - ec
+            up = np.maximum(0, (e + (mc < mr)) // 2)
+            k = np.where(up > 0, up, -np.maximum(0, ((mc >= mr) - e) // 2))
+            f = np.ldexp(1.0, k)
+            cn, rn = c * f, r / f
+            keep = live & (cn + rn < 0.95 * (c + r))
+            if not keep.any():
+                continue
+            fs = scale[active, i] * f
+            wild = keep & ((np.minimum(np.minimum(c, rn / 2.0), np.minimum(f, fs)) < lo)
+                           | (np.maximum(np.maximum(cn, r), np.maximum(f, fs)) > hi))
+            extreme[active[wild]] = True
+            keep &= ~wild
+            w = np.flatnonzero(keep)
+            scale[active[w], i] = fs[w]
+            sub[w, i, :] *= (1.0 / f[w])[:, None]
+            sub[w, :, i] *= f[w][:, None]
+            changed[w] = True
+        B[active] = sub
+        active = active[changed & ~extreme[active]]
+        if active.size == 0:
+            break
+    for k in np.flatnonzero(extreme):
+        scale[k] = _balance_one(A[k].copy(), safe=True)
+    return scale

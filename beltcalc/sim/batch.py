@@ -93,10 +93,11 @@ class Propagation:
     augmented system of the inputs); the block scheme is :func:`beltcalc.sim.core._propagate`'s.
     """
 
-    def __init__(self, F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1):
+    def __init__(self, F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1,
+                 scale: np.ndarray | None = None):
         from beltcalc.sim.core import expm, orbit_stack
 
-        self.scale = _balance(F)
+        self.scale = _balance(F) if scale is None else scale
         s = self.scale
         Ft = F / s[:, :, None] * s[:, None, :]
         step = np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
@@ -171,12 +172,14 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     speeds = list(range(n, 2 * n))
     units = [states[k][1] for k in speeds]
     step = max(1, int(PASS_BYTES // (8 * N * (m + len(names) + (2 * n if estimate else 0)))))
+    F_all = np.stack([augmented_matrix(net) for net in nets])
+    scale_all = _balance(F_all)                              # the chunk's balancings: one call
     for a in range(0, R, step):
         idx = list(range(a, min(R, a + step)))
         Rp = len(idx)
-        F = np.stack([augmented_matrix(nets[r]) for r in idx])
+        F = F_all[a:a + Rp]
         z0 = np.stack([np.concatenate([nets[r].initial_state(), nets[r].generators(0.0)]) for r in idx])
-        prop = Propagation(F, z0, dt, N)
+        prop = Propagation(F, z0, dt, N, scale=scale_all[a:a + Rp])
         b = prop.b
         block0 = min(int(first[r]) for r in idx) // b
         k = block0 * b

@@ -27,7 +27,8 @@ from beltcalc.sim.drivefile import load_drive
 from beltcalc.sim.elements import Coupling, Prescribed
 from beltcalc.sim.network import (Gear, Inertia, Load, Network, Prescribed as Pres, SpeedLoop, Strand)
 from beltcalc.sim.scenes import SCENES
-from beltcalc.sim.switching import _orbit, balance
+from beltcalc.sim.linalg import balance
+from beltcalc.sim.switching import _orbit
 
 DRIVES = sorted(p.stem for p in (Path(__file__).parent.parent / "catalogs" / "drives").glob("*.toml"))
 
@@ -130,8 +131,7 @@ def _old_propagate(F, z0, dt, samples, parts=1):
     m = F.shape[0]
     scale = balance(F)
     Ft = F / scale[:, None] * scale[None, :]
-    from scipy.linalg import expm
-    step = np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
+    step = np.linalg.matrix_power(core.expm(Ft * (dt / parts)), parts)   # the scheme is tested, not expm
     b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
     powers = core._orbit_matrix(step, b)
     jump = step @ powers[b - 1]
@@ -268,20 +268,30 @@ def test_propagation_into_one_array_equals_the_old_one(samples, parts):
     assert_allclose(some, new[5:10], rtol=1e-13, atol=0)
 
 
-def test_the_error_estimate_is_unchanged_by_propagating_only_the_speeds():
-    # the estimate's second run propagates only the speed rows it compares
+def test_the_error_estimates_reference_is_the_other_partition_at_its_samples():
+    # a run of one linear piece compares its speeds with the other partition (expm(F~ dt/3)^3)
+    # at every (b+1)-th sample and the last (core.reference_rows): those samples are what a
+    # whole second propagation gives there, and the estimate is the largest difference over
+    # them plus the conditioning floor
     net, t_end, samples = _scene("sewing")
     t = np.linspace(0.0, t_end, samples)
     x0 = net.initial_state()
+    n = net.n
     full = core._exact(net, t, x0, SolverConfig("exact"), scale=0.7)[0]
-    speeds = core._exact(net, t, x0, SolverConfig("exact"), scale=0.7, rows=range(net.n, 2 * net.n))[0]
-    assert_allclose(speeds[net.n:2 * net.n], full[net.n:2 * net.n], rtol=1e-13, atol=0)
+    F, scale = core.one_piece(net)
+    idx, ref = core.reference_rows(F, np.concatenate([x0, net.generators(0.0)]), t[1] - t[0], samples,
+                                   range(n, 2 * n), scale)
+    b = math.ceil(math.sqrt(samples))
+    assert idx[-1] == samples - 1 and np.all(np.diff(idx)[:-1] == b + 1)
+    assert len(set(idx[:-1] % b)) == len(idx) - 1                # every sample at another offset in its block
+    assert_allclose(ref, full[n:2 * n][:, idx], rtol=1e-12, atol=1e-12 * float(np.abs(full[n:2 * n]).max()))
     r = simulate(net, t_end, samples, SolverConfig("exact"))
-    expected = max(float(np.max(np.abs(r.states[k] - full[k]))) / max(float(np.max(np.abs(r.states[net.n:2 * net.n]
-                   [[j for j in range(net.n) if net.state_names()[net.n + j][1] == net.state_names()[k][1]]]))), 1e-300)
-                   for k in range(net.n, 2 * net.n))
-    floor = core.conditioning(net, t_end)
-    assert r.error_relative == pytest.approx(expected + floor, rel=1e-6)
+    speeds = r.states[n:2 * n]
+    units = [u for _, u in net.state_names()[n:2 * n]]
+    scale_of = {u: max(float(np.abs(speeds[j]).max()) for j in range(n) if units[j] == u) for u in units}
+    expected = max(float(np.abs(speeds[j][idx] - ref[j]).max()) / scale_of[units[j]] for j in range(n))
+    assert r.error_relative == pytest.approx(expected + core.conditioning(net, t_end), rel=1e-12)
+    assert r.error_at in t[idx]
 
 
 def _modules_after(code: str) -> set[str]:
@@ -295,8 +305,7 @@ def test_the_exact_path_does_not_import_scipy_integrate():
     loaded = _modules_after("from beltcalc.sim.scenes import SCENES\nfrom beltcalc.sim.core import simulate, "
                             "SolverConfig\ns = SCENES['sewing']; v = dict(s.values())\n"
                             "r = simulate(s.build(v), 1.0, 2001, SolverConfig('exact'))")
-    assert "scipy.linalg" in loaded
-    assert not {m for m in loaded if m.startswith(("scipy.integrate", "scipy.optimize"))}   # no strands: no brentq
+    assert not {m for m in loaded if m.startswith(("scipy.linalg", "scipy.integrate", "scipy.optimize"))}
     # (pint itself imports dask.base when dask is installed; nothing of ours imports more)
     assert not {"matplotlib", "pandas", "distributed", "dask.array", "dask.dataframe"} & loaded
 

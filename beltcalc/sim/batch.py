@@ -9,7 +9,7 @@ few signals ``y_ri(t_k) = c_ri^T z_r(t_k)`` that are linear in ``z``: speeds, ac
 (``c^T F``), coupling torques, a motor's torque. They are computed for the chunk at once:
 
 - ``F~_r = D_r^{-1} F_r D_r`` balanced (powers of two, exact), ``S_r = expm(F~_r dt)`` for the
-  whole stack in one call (:func:`scipy.linalg.expm` takes ``(runs, n, n)``);
+  whole stack in one call (:func:`beltcalc.sim.linalg.expm` takes ``(runs, n, n)``);
 - with ``b = ceil(sqrt(N))`` for ``N`` samples, the rows ``w_{r,i,j} = c~_ri^T S_r^j``
   (``j < b``) by doubling and the block starts ``S_r^{kb} z~_r(0)`` by doubling: then
   ``y_ri(t_{kb + j}) = (S_r^{kb} z~_r(0)) . w_{r,i,j}``, one batched matrix product per pass
@@ -38,7 +38,7 @@ or the whole chunk goes one by one.
 References: Moler & Van Loan, "Nineteen dubious ways to compute the exponential of a matrix,
 twenty-five years later", SIAM Review 45 (2003) 3-49 (scaling and squaring; the augmented
 system for polynomial and sinusoidal inputs, section 10); Al-Mohy & Higham, SIAM J. Matrix
-Anal. Appl. 31 (2009) 970-989 (scipy's ``expm``).
+Anal. Appl. 31 (2009) 970-989 (``expm``, :mod:`beltcalc.sim.linalg`).
 """
 
 from __future__ import annotations
@@ -82,7 +82,7 @@ class Propagation:
     r"""The exact solution of a stack of runs ``z_r' = F_r z_r`` at ``samples`` points ``k dt``,
     as :func:`beltcalc.sim.core._propagate` computes it for one run, with the same operations
     in the same order (so the same numbers): ``F~ = D^{-1} F D`` balanced, ``S = expm(F~ dt /
-    parts)^parts`` (:func:`scipy.linalg.expm` on the whole stack), the powers ``S^j`` (``j <
+    parts)^parts`` (:func:`beltcalc.sim.linalg.expm` on the whole stack), the powers ``S^j`` (``j <
     b = ceil(sqrt(samples))``) and the block starts ``S^{kb} z~(0)`` by doubling; then
     ``z_i(t_{kb+j}) = D_i (S^j)_i . S^{kb} z~(0)``. :meth:`rows` reads any rows over any
     range of blocks, so a run's summary needs only its window and the rows it reports.

@@ -35,12 +35,12 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import expm
 
 from beltcalc.errors import InputError, SimulationError, require_positive
+from beltcalc.sim.linalg import balance, expm
 from beltcalc.sim.network import Network
 from beltcalc.sim.result import SimResult
-from beltcalc.sim.switching import EPS, _orbit, balance, piecewise_exact, slack_times
+from beltcalc.sim.switching import EPS, _orbit, piecewise_exact, slack_times
 
 
 @dataclass(frozen=True)
@@ -103,7 +103,7 @@ def augmented_matrix(network: Network, taut=None, t_mid: float = 0.0) -> np.ndar
 
 def one_piece(network: Network) -> tuple[np.ndarray, np.ndarray]:
     """(F, scale): the augmented matrix of the network's one linear piece (every strand taut,
-    the first time piece) and its balancing (:func:`beltcalc.sim.switching.balance`), kept
+    the first time piece) and its balancing (:func:`beltcalc.sim.linalg.balance`), kept
     on the network: a run, its error estimate and its conditioning read them once."""
     hit = network.__dict__.get("_one_piece")
     if hit is None:

@@ -765,7 +765,7 @@ class Network:
         every node that is not a coordinate (geared or condensed), every coupling torque.
 
         Here, on the network, so that the frequency domain (modes, response, campbell) reads
-        them without importing the time-domain core (and scipy.linalg with it)."""
+        them without importing the time-domain core."""
         m = self.size
         eye = np.eye(m)
         rows = {name: eye[k] for k, (name, _) in enumerate(self.state_names())}

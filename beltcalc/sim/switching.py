@@ -45,10 +45,9 @@ import math
 from collections import OrderedDict
 
 import numpy as np
-from scipy.linalg import expm
-from scipy.linalg.lapack import dgebal
 
 from beltcalc.errors import SimulationError
+from beltcalc.sim.linalg import balance, expm
 from beltcalc.sim.scalar import brentq, horner     # brentq: scipy's, bit for bit, without scipy.optimize
 
 _csr_matvec = ...   # scipy's C kernel behind ``csr @ vector``: looked up on the sparse path's first use
@@ -77,25 +76,6 @@ CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
-
-
-def balance(F: np.ndarray) -> np.ndarray:
-    """Diagonal scaling S (powers of two) with S^-1 F S balanced; exact in floating point.
-
-    LAPACK's dgebal without permutation, called directly: what
-    ``scipy.linalg.matrix_balance(F, permute=False, separate=True)`` returns as its scale,
-    bit for bit (with no permutation, LAPACK's ``lo:hi`` is the whole matrix), without the
-    wrapper's validation and routine look-up (0.4 ms on a process's first call, 50 us after).
-    """
-    F = np.asarray(F, dtype=float)
-    if F.size == 0:
-        return np.ones(F.shape[0])
-    if not np.isfinite(F).all():
-        raise ValueError("balance: the matrix has a non-finite entry")
-    _, _, _, scale, info = dgebal(F, scale=1, permute=0)
-    if info != 0:
-        raise ValueError(f"balance: LAPACK dgebal returned info = {info}")
-    return scale
 
 
 def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:

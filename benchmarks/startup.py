@@ -72,7 +72,7 @@ if sys.argv[1] == "propagation":
     out["exact"] = timed(lambda: core._exact(net, t, x0, cfg))
     out["exact_warm"] = min(timed(lambda: core._exact(net, t, x0, cfg)) for _ in range(20))
 elif sys.argv[1] == "expm":
-    from scipy.linalg import expm
+    from beltcalc.sim.linalg import expm
     F = core.augmented_matrix(net) * (t[1] - t[0])
     out["expm"] = timed(lambda: expm(F))
     out["expm_warm"] = min(timed(lambda: expm(F)) for _ in range(20))
@@ -136,7 +136,7 @@ if sys.argv[1] == "import":                 # what importing these modules costs
     print(json.dumps({"floor": t1 - t0, "total": cpu() - t1}))
     raise SystemExit
 inside = [0.0]
-if sys.argv[1] == "simulate":               # (only there: importing the core imports scipy.linalg)
+if sys.argv[1] == "simulate":               # (only there: the time-domain core is imported)
     from beltcalc.sim import core
     real = core.simulate
     def simulate(*a, **k):                  # the calculation: every simulate() the command calls
@@ -199,7 +199,7 @@ def cold(processes: int) -> list[str]:
              "|---|---|---|---|"]
     for label, kind, key in [("exact propagation (`core._exact`: matrices, balancing, expm, every sample)",
                               "propagation", "exact"),
-                             ("one `scipy.linalg.expm` of the 14 x 14 augmented matrix", "expm", "expm"),
+                             ("one `expm` (`beltcalc.sim.linalg`) of the 14 x 14 augmented matrix", "expm", "expm"),
                              ("whole `simulate()` (propagation, outputs, error estimate)", "simulate", "simulate")]:
         c, w = med(kind, key), med(kind, key + "_warm")
         lines.append(f"| {label} | {c:.3f} | {w:.3f} | {c / w:.1f} |")

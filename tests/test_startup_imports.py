@@ -55,20 +55,21 @@ def test_a_command_without_a_simulation_imports_no_scipy_module(args, pint_floor
     assert not _under(loaded, "dask") - pint_floor
 
 
-def test_simulate_sewing_imports_scipy_linalg_only(pint_floor):
+def test_simulate_sewing_imports_no_scipy_module(pint_floor):
+    # the exact method's expm and balancing are beltcalc.sim.linalg's (numpy only)
     loaded = _loaded("simulate", "sewing")
-    assert "scipy.linalg" in loaded                      # expm: the exact method needs it
-    assert not _under(loaded, *NEVER, "scipy.optimize") - pint_floor   # no strands: no root finding
+    assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
     # only its own scene: not the linear axis's sizing and duty cycles, not the roller table
     assert not {"beltcalc.sim.scenes.linear_axis", "beltcalc.sim.scenes.roller_table", "beltcalc.sizing",
                 "beltcalc.dutycycle"} & loaded
 
 
-def test_a_drive_with_strands_imports_no_scipy_optimize(pint_floor):
+def test_a_drive_with_strands_imports_no_scipy_module(pint_floor):
     # the switching core locates strand switches and the watch polishes extremes with
-    # beltcalc.sim.scalar's ports of scipy's brentq and bounded minimize_scalar
+    # beltcalc.sim.scalar's ports of scipy's brentq and bounded minimize_scalar; expm and
+    # balancing are beltcalc.sim.linalg's
     loaded = _loaded("simulate", "drive", "conveyor")
-    assert not _under(loaded, *NEVER, "scipy.optimize") - pint_floor
+    assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
 
 
 def test_the_scene_registry_imports_a_scene_on_first_look_up():

@@ -546,7 +546,7 @@ def balance(F) -> np.ndarray:
     >>> F = np.array([[1.0, 1e4], [1e-4, 1.0]])
     >>> d = balance(F)
     >>> d.tolist(), (F / d[:, None] * d[None, :]).tolist()
-    ([1.0, 8.0], [[1.0, 1250.0], [0.0008, 1.0]])
+    ([512.0, 0.0625], [[1.0, 1.220703125], [0.8192, 1.0]])
     """
     A = _check(F, "balance")
     n = A.shape[-1]

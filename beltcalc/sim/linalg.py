@@ -417,10 +417,10 @@ def expm(A) -> np.ndarray:
     if n == 1:
         return np.exp(a)
     lower, upper = _masks(n)
-    if a.ndim == 2 and a[lower].any() and a[upper].any():
-        R = _expm_one(a)
+    if a.size == n * n and a[..., lower].any() and a[..., upper].any():    # one full matrix (or a stack of one)
+        R = _expm_one(a.reshape(n, n))
         if R is not None:
-            return R
+            return R.reshape(shape)
     X = a.reshape(-1, n, n)
     K = X.shape[0]
     has_low = X[:, lower].any(axis=1)

@@ -237,6 +237,7 @@ class DriveFile:
         self.generated = data is not None       # built in code: bare numbers are SI values
         self._params: list[DriveParam] | None = None
         self._known_names: set[str] | None = None
+        self._values: dict = {}                 # (entry, key) -> what a build reads of the file itself
         if data is None:
             data = _read_toml(self.path)
         for key in data:
@@ -402,6 +403,9 @@ def _text(value) -> str | None:
     return str(value)
 
 
+_MISSING = object()          # a key the file does not give
+
+
 class _Builder:
     """Turns the entries into elements, converting each value once (SI floats)."""
 
@@ -430,10 +434,25 @@ class _Builder:
     def get(self, e: Entry, key: str, default=None):
         """The SI value of ``key`` of entry ``e`` (an override first), or ``default``; a
         value out of its key's range is refused, naming the file's element and key (or the
-        address, when the value was set)."""
-        spec = KEYS[e.section][key]
-        unit = self.f.unit(e, key)
-        address = key if e.section == "drive" else f"{e.name}.{key}"
+        address, when the value was set). What the file itself gives (its unit, address and
+        checked value) is worked out on the first build and kept on the drive file: a study
+        builds the drive thousands of times with a few values changed."""
+        hit = self.f._values.get((id(e), key))
+        if hit is None:
+            spec = KEYS[e.section][key]
+            unit = self.f.unit(e, key)
+            value = _MISSING
+            if key in e.raw:
+                try:
+                    value = _convert(e.raw[key], Key(unit, spec.help), si_numbers=self.f.generated)
+                except (ValueError, TypeError) as exc:
+                    self.f.fail(e.where, key, str(exc))
+                problem = _out_of_range(value, spec, unit)
+                if problem:
+                    self.f.fail(e.where, key, problem)
+            hit = self.f._values[(id(e), key)] = (spec, unit, key if e.section == "drive" else f"{e.name}.{key}",
+                                                  value)
+        spec, unit, address, value = hit
         if address in self.values:
             value = self.values[address]
             value = value[0] if isinstance(value, tuple) else value
@@ -442,15 +461,8 @@ class _Builder:
             if problem:
                 raise InputError(problem, param=address, scope="scene")
             return value
-        if key not in e.raw:
+        if value is _MISSING:
             return default
-        try:
-            value = _convert(e.raw[key], Key(unit, spec.help), si_numbers=self.f.generated)
-        except (ValueError, TypeError) as exc:
-            self.f.fail(e.where, key, str(exc))
-        problem = _out_of_range(value, spec, unit)
-        if problem:
-            self.f.fail(e.where, key, problem)
         if spec.scalar:
             self.used[address] = (value, "file")
         return value

@@ -67,7 +67,11 @@ def test_the_error_estimate_is_the_single_runs():
     t = np.linspace(0.0, v["t_end"], int(v["samples"]))
     (_, _, _, err), = list(batch.exact_windows(nets, t, [5000] * 3, ["omega_3"]))
     want = [simulate(net, v["t_end"], int(v["samples"]), CFG).error_relative for net in nets]
-    assert_allclose(err, want, rtol=1e-9, atol=0)
+    # the same differences and floor; the scale from the window and the reference's samples
+    # before it (a lower bound of the single run's peaks over every sample): at least the
+    # single run's estimate, and within a few parts in 1e4 of it here
+    assert_allclose(np.maximum(err, want), err, rtol=1e-12, atol=0)
+    assert_allclose(err, want, rtol=2e-3, atol=0)
 
 
 def test_propagation_is_the_cores():

@@ -137,8 +137,10 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     ``T_<coupling>``, ``C (g . phi) + d (g . omega)``
     (:meth:`beltcalc.sim.elements.Coupling.outputs_of`); and the run's error estimate as
     :func:`beltcalc.sim.core.estimate_error` forms it (the speeds against
-    :func:`beltcalc.sim.core.reference_rows`, their peaks over the whole run, plus the
-    conditioning floor).
+    :func:`beltcalc.sim.core.reference_rows`, plus the conditioning floor), relative to the
+    speeds' peaks over the window and the reference's samples before it: a lower bound of the
+    single run's scale (its peaks over every sample), so the batch's estimate is at least the
+    single run's, and no speed is formed before the window.
 
     Yields one pass of runs at a time: ``(runs, k, Y, err)``, ``Y[j, i]`` signal ``names[i]``
     of run ``runs[j]`` at the samples from ``k`` on (``k <= first[r]``), ``err[j]`` its
@@ -212,13 +214,19 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
         err = None
         if estimate:
             at, ref = reference_rows(F, z0, dt, N, speeds, scale=prop.scale)   # the single run's reference
-            parts = [X[:, n:2 * n]]
-            if k:
-                parts.append(prop.rows(speeds, 0, block0))
-                ref -= np.concatenate([parts[1][:, :, at[at < k]], parts[0][:, :, at[at >= k] - k]], axis=2)
+            win = X[:, n:2 * n]
+            peak = np.maximum(win.max(axis=2), -win.min(axis=2))
+            pre = at[at < k]
+            if pre.size:
+                # the run's speeds at the reference's samples before the window, each off its
+                # block start: z(q b + r) = D S~^r z~(q b)
+                q, r = np.divmod(pre, b)
+                zs = (prop.powers[:, r][:, :, n:2 * n, :] @ prop.starts[:, q, :, None])[..., 0]
+                zs = zs.transpose(0, 2, 1) * prop.scale[:, n:2 * n, None]
+                peak = np.maximum(peak, np.abs(zs).max(axis=2))
+                ref -= np.concatenate([zs, win[:, :, at[at >= k] - k]], axis=2)
             else:
-                ref -= parts[0][:, :, at]
-            peak = np.max([np.maximum(q.max(axis=2), -q.min(axis=2)) for q in parts], axis=0)
+                ref -= win[:, :, at - k]
             apart = np.maximum(ref.max(axis=2), -ref.min(axis=2))
             s = prop.scale
             floor = EPS * np.abs(F / s[:, :, None] * s[:, None, :]).sum(axis=1).max(axis=1) * float(t[-1])
@@ -269,23 +277,30 @@ def steady_stats(nets: Sequence, names: Sequence[str]) -> tuple[np.ndarray, np.n
     from beltcalc.sim import frequency as fr
 
     R, q = len(nets), len(names)
-    mean, amp = np.zeros((R, q)), np.zeros((R, q))
     if not R:
-        return mean, amp, np.ones(0, dtype=bool)
+        return np.zeros((0, q)), np.zeros((0, q)), np.ones(0, dtype=bool)
     AB = [net.first_order(None, 1.0) for net in nets]
     A = np.stack([A for A, _ in AB])
     mean_x, ok = fr.mean_states(A, np.stack([B[:, 0] for _, B in AB]), _balance(A))
     net0 = nets[0]
     states, eye = [s for s, _ in net0.state_names()], np.eye(net0.size)
-    rows = [[_output_row(net, y, states, eye) for y in names] for net in nets]
-    ws = [net.frequencies()[0] for net in nets]
-    w = np.array(ws)
+    # the output rows (runs, names, size) and powers of j w: a state's and an acceleration's
+    # are the same for every run, a coupling's torque has each run's own C and d
+    same = {y: _output_row(net0, y, states, eye) for y in names if not y.startswith("T_")}
+    rows = np.stack([np.stack([same[y][0] if y in same else _output_row(net, y, states, eye)[0] for y in names])
+                     for net in nets])
+    power = np.array([same[y][1] if y in same else 0 for y in names])
+    w = np.array([net.frequencies()[0] for net in nets])
     M = 1j * w[:, None, None] * eye[None] - A
     X = np.linalg.solve(M, np.stack([B[:, 2] - 1j * B[:, 1] for _, B in AB])[:, :, None])[:, :, 0]
+    # each value by its own dot product, as the single run forms it: a torque's mean is the
+    # small difference of large terms (the angles), so the order of the sum shows at 1e-11
+    mean, amp = np.zeros((R, q)), np.zeros((R, q))
     for r in range(R):
-        for i, (row, power) in enumerate(rows[r]):
-            mean[r, i] = float(row @ mean_x[r]) if power == 0 else 0.0
-            amp[r, i] = float(abs(complex(row @ X[r] * (1j * ws[r]) ** power)))
+        for i in range(q):
+            if power[i] == 0:
+                mean[r, i] = rows[r, i] @ mean_x[r]
+            amp[r, i] = abs(complex(rows[r, i] @ X[r] * (1j * w[r]) ** power[i]))
     return mean, amp, ok
 
 

@@ -78,6 +78,15 @@ def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
+def _step(F: np.ndarray, scale: np.ndarray, dt: float, parts: int = 1) -> np.ndarray:
+    """``expm(F~ dt / parts)^parts`` of each run, ``F~ = D^-1 F D`` (the step of
+    :func:`beltcalc.sim.core._propagate`): one stacked call."""
+    from beltcalc.sim.core import expm
+
+    Ft = F / scale[:, :, None] * scale[:, None, :]
+    return np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
+
+
 class Propagation:
     r"""The exact solution of a stack of runs ``z_r' = F_r z_r`` at ``samples`` points ``k dt``,
     as :func:`beltcalc.sim.core._propagate` computes it for one run, with the same operations
@@ -94,13 +103,13 @@ class Propagation:
     """
 
     def __init__(self, F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1,
-                 scale: np.ndarray | None = None):
-        from beltcalc.sim.core import expm, orbit_stack
+                 scale: np.ndarray | None = None, step: np.ndarray | None = None):
+        from beltcalc.sim.core import orbit_stack
 
         self.scale = _balance(F) if scale is None else scale
         s = self.scale
-        Ft = F / s[:, :, None] * s[:, None, :]
-        step = np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
+        if step is None:
+            step = _step(F, s, dt, parts)
         self.b = b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
         self.powers = _orbit_matrix(step, b)
         jump = step @ self.powers[:, b - 1]
@@ -174,14 +183,19 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     speeds = list(range(n, 2 * n))
     units = [states[k][1] for k in speeds]
     step = max(1, int(PASS_BYTES // (8 * N * (m + len(names) + (2 * n if estimate else 0)))))
+    # the chunk's balancings, steps, initial states and error references: one stacked call each
     F_all = np.stack([augmented_matrix(net) for net in nets])
-    scale_all = _balance(F_all)                              # the chunk's balancings: one call
+    scale_all = _balance(F_all)
+    step_all = _step(F_all, scale_all, dt)
+    z0_all = np.stack([np.concatenate([net.initial_state(), net.generators(0.0)]) for net in nets])
+    if estimate:
+        at, ref_all = reference_rows(F_all, z0_all, dt, N, speeds, scale=scale_all)
     for a in range(0, R, step):
         idx = list(range(a, min(R, a + step)))
         Rp = len(idx)
         F = F_all[a:a + Rp]
-        z0 = np.stack([np.concatenate([nets[r].initial_state(), nets[r].generators(0.0)]) for r in idx])
-        prop = Propagation(F, z0, dt, N, scale=scale_all[a:a + Rp])
+        z0 = z0_all[a:a + Rp]
+        prop = Propagation(F, z0, dt, N, scale=scale_all[a:a + Rp], step=step_all[a:a + Rp])
         b = prop.b
         block0 = min(int(first[r]) for r in idx) // b
         k = block0 * b
@@ -213,7 +227,7 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
                     Y[:, i] = T[:, torque.index(what)]
         err = None
         if estimate:
-            at, ref = reference_rows(F, z0, dt, N, speeds, scale=prop.scale)   # the single run's reference
+            ref = ref_all[a:a + Rp].copy()                      # the single run's reference
             win = X[:, n:2 * n]
             peak = np.maximum(win.max(axis=2), -win.min(axis=2))
             pre = at[at < k]

@@ -210,15 +210,15 @@ def cold(processes: int) -> list[str]:
 NOTES = """## Notes
 
 - What a command pays beyond the floor: click and rich (the table), its own modules, the
-  catalog files (TOML, units converted once), its calculation, and the scipy packages a
-  simulation needs. `scipy.linalg` (`expm`: the exact method has no lighter path, and it is
-  not written by hand here) costs about 80 ms after the floor, about 40 of them scipy's
-  array-API layer importing numpy's `f2py`, `testing`, `ma`, `random` and `polynomial` (not
-  ours to avoid); `scipy.sparse` about 10 ms more, imported only where the switching core's
-  sparse path runs (large strand networks); `scipy.optimize` about 110 ms, imported only where a strand switch is located
-  (`simulate drive conveyor`, `simulate roller-table`). The frequency domain (`modes`,
-  `response`, `campbell`) imports none of them: its peaks are refined by
-  `beltcalc.sim.scalar` (scipy's brentq and golden section, ported: equal bit for bit).
+  catalog files (TOML, units converted once), and its calculation. No default command
+  imports a scipy module: the exact method's `expm` and balancing are
+  `beltcalc.sim.linalg` (numpy; `scipy.linalg` had cost about 80 ms after the floor, about
+  40 of them scipy's array-API layer importing numpy's `f2py`, `testing`, `ma`, `random` and
+  `polynomial`), strand switches are located and the watch's extremes polished by
+  `beltcalc.sim.scalar`'s ports of scipy's `brentq` and bounded `minimize_scalar`
+  (`scipy.optimize` had cost about 110 ms), `scipy.sparse` is imported only where the
+  switching core's sparse path runs (large strand networks), `scipy.integrate` only for
+  scipy's methods.
 - The console script pauses the garbage collector while the command's modules are imported
   and freezes what is alive when it ends (`beltcalc/cli/main.py`): about a fifth of every
   command's CPU had been collections walking long-lived objects, mostly at shutdown. The
@@ -227,22 +227,16 @@ NOTES = """## Notes
 - The floor runs with BLAS single-threaded, as every command runs (`beltcalc/cli/main.py` sets
   `OPENBLAS_NUM_THREADS=1` before numpy loads). Typed as is, with OpenBLAS's default threads,
   the floor costs about 18 % more CPU on this machine (its threads' start-up and teardown),
-  and every ratio is lower by as much (`simulate sewing` about 1.14x).
+  and every ratio is lower by as much.
 - Bytecode: an installed package reads its compiled modules. With beltcalc compiled from
   source on every run instead (`--no-bytecode`: an editable checkout under
-  `PYTHONDONTWRITEBYTECODE`, as the earlier figures of this file were taken), each ratio is
-  0.05 to 0.2 higher (load 2.3: tension 1.04x, motor-size 1.23x, response 1.24x, simulate
-  sewing 1.58x, simulate drive conveyor 2.68x).
-- Above the target:
-  - `simulate sewing` (1.33x, the target 1.3x): scipy.linalg alone is about 0.27 of the floor
-    (see *Where it goes*); the calculation (`simulate()`) is a few ms; the rest is click, rich
-    and its tables (about 17 ms to render), reading the scene and drive files and its own
-    modules. scipy.sparse (now only on the sparse path) and beltcalc.sim.study (now only for
-    a study) are no longer imported by it (1.38x -> 1.33x).
-  - `simulate drive conveyor`: its calculation (23,848 exact steps with strand switches, each
-    located by scipy's C `brentq`; see *Where it goes*) is about 0.85 of the floor by itself,
-    plus scipy.linalg, scipy.sparse and scipy.optimize, all used by the run. (A Python
-    `brentq` spares the import but costs more than it saves over thousands of switches.)
+  `PYTHONDONTWRITEBYTECODE`), each ratio is 0.05 to 0.2 higher.
+- Above the target (1.3x): `simulate drive conveyor` (1.49x). Its calculation (two exact
+  runs of 5 s, 23,848 internal steps, 6 strand switches each located on the exact solution,
+  5,001 samples each with the exact integrals the window's means come from) is about 100 ms
+  of CPU by itself (see *Where it goes*). The watched run reads its samples and integrals by
+  a 34-term Taylor sum per sample; reading them by powers of the sample step and its
+  integral, as the unwatched run reads its samples, is the next saving.
 """
 
 

@@ -113,8 +113,9 @@ def run(name: str, folder: Path) -> None:
                      f"{r.wall_time / exact.wall_time:.0f} |")
     call, build, solver = exact_end_to_end(name)
     lines += ["", "Solver only and end to end (the whole `simulate()` call: matrices, solve, every output signal; "
-              "the exact method with its error estimate, which propagates a second time; scipy's methods without "
-              "one), each the best of its repeats in this one warm process:", "",
+              "the exact method with its error estimate, a second computation on another partition (every sample "
+              "again where the run switches, every (b+1)-th sample and the last where it is one linear piece); "
+              "scipy's methods without one), each the best of its repeats in this one warm process:", "",
               "| method | rtol | solver only [ms] | end to end [ms] | end to end, x exact's |", "|---|---|---|---|---|",
               f"| exact, with its error estimate | - | {solver * 1e3:.3g} | {call * 1e3:.3g} | 1 |",
               f"| exact, with its estimate and the network's build | - | {solver * 1e3:.3g} | {build * 1e3:.3g} | "

@@ -500,9 +500,9 @@ FIGURES = [
     # simulate roller-table
     F("roller sprocket", "19-tooth sprockets (d = p / sin(180 deg / z) = 96.45 mm)", "96.45", J("diameter", MM)),
     F("roller sprocket", "19-tooth sprockets (d = p / sin(180 deg / z) = 96.45 mm)", "19", J("teeth")),
-    F("roller-table", "With no options (3 rollers; error estimate 2.1e-8 rad/s, 1 strand switch", "2.1e-8",
+    F("roller-table", "With no options (3 rollers; error estimate 2.2e-8 rad/s, 1 strand switch", "2.2e-8",
       J("error_estimate")),
-    F("roller-table", "With no options (3 rollers; error estimate 2.1e-8 rad/s, 1 strand switch", "1",
+    F("roller-table", "With no options (3 rollers; error estimate 2.2e-8 rad/s, 1 strand switch", "1",
       J("events")),
     F("roller-table slack", "the chain starts slack everywhere: 258 switches in the start-up", "258", J("events")),
     F("roller-table slack", "(estimate 1.2e-5 rad/s, 7.6e-8 of the scale)", "1.2e-5", J("error_estimate")),

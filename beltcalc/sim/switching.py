@@ -247,6 +247,26 @@ class Mode:
             self._step = (dt, expm(self.Ft * dt))
         return self._step[1]
 
+    def step_integral(self, dt: float) -> np.ndarray:
+        """``G = [[S, 0], [Phi, I]]`` with ``S = expm(F~ dt)`` and ``Phi = int_0^dt expm(F~ tau)
+        d tau`` (dense): ``[z; I] -> [S z; I + Phi z]`` steps a state and its integral from 0
+        one sample on, for reading many uniformly spaced samples and the integrals the
+        window's means come from off one piece. Both blocks from one exponential,
+        ``expm([[F~ dt, I dt], [0, 0]]) = [[S, Phi], [0, I]]`` (Van Loan, IEEE Trans. Autom.
+        Control 23 (1978) 395-404, Theorem 1: the integral of the exponential)."""
+        if getattr(self, "_step_integral", (None,))[0] != dt:
+            m = self.Ft.shape[0]
+            M = np.zeros((2 * m, 2 * m))
+            M[:m, :m] = self.Ft * dt
+            M[:m, m:] = np.eye(m) * dt
+            E = expm(M)
+            G = np.zeros((2 * m, 2 * m))
+            G[:m, :m] = E[:m, :m]
+            G[m:, :m] = E[:m, m:]
+            G[m:, m:] = np.eye(m)
+            self._step_integral = (dt, G)
+        return self._step_integral[1]
+
     def Q(self, k: int) -> np.ndarray:
         """The integral of the ladder step, ``int_0^(h / 2^k) expm(F~ tau) d tau`` (dense): the
         bottom one ``L phi_1(F~ L)`` by its Taylor series (Horner, exact to rounding like
@@ -562,13 +582,20 @@ class Run:
         idx = np.arange(self.next_out, stop)
         k = np.clip(np.searchsorted(t_base, t[idx], side="right") - 1, 0, len(t_base) - 1)
         tau = np.clip(t[idx] - t_base[k], 0.0, mode.h)
-        if not self.integrate and not mode.sparse and idx.size >= 16 and self.uniform:
+        many = not mode.sparse and idx.size >= 16 and self.uniform
+        if many and not self.integrate:
             # many samples in one piece: the first off its step, the rest by expm(F~ dt) powers
             # (one m^2 product per sample instead of a Taylor sum of TERMS)
             Z = _orbit(mode.step(self.dt), mode.at(base[k[0]], tau[0]), idx.size)
         elif self.integrate:
-            Z, I = mode.at(base[k], tau, integrate=True)
-            I += I_base[k]
+            if many:
+                # the same with the integrals: [z; I] stepped by [[S, 0], [Phi, I]]
+                z0, I0 = mode.at(base[k[0]], tau[0], integrate=True)
+                W = _orbit(mode.step_integral(self.dt), np.concatenate([z0, I0 + I_base[k[0]]]), idx.size)
+                Z, I = W[:, :z0.size], W[:, z0.size:]
+            else:
+                Z, I = mode.at(base[k], tau, integrate=True)
+                I += I_base[k]
             self.integrals[:, idx] = (I * self.S[None, :]).T[:self.m]
             on = np.asarray(mode.taut, dtype=float)
             self.force_integrals[:, idx] = self.F_run[:, None] + on[:, None] * (self.force @ (I - self.I_piece).T)

@@ -231,12 +231,13 @@ NOTES = """## Notes
 - Bytecode: an installed package reads its compiled modules. With beltcalc compiled from
   source on every run instead (`--no-bytecode`: an editable checkout under
   `PYTHONDONTWRITEBYTECODE`), each ratio is 0.05 to 0.2 higher.
-- Above the target (1.3x): `simulate drive conveyor` (1.49x). Its calculation (two exact
-  runs of 5 s, 23,848 internal steps, 6 strand switches each located on the exact solution,
-  5,001 samples each with the exact integrals the window's means come from) is about 100 ms
-  of CPU by itself (see *Where it goes*). The watched run reads its samples and integrals by
-  a 34-term Taylor sum per sample; reading them by powers of the sample step and its
-  integral, as the unwatched run reads its samples, is the next saving.
+- Above the target (1.3x): `simulate drive conveyor` (the table above). Its calculation is
+  about 85 ms of CPU by itself (see *Where it goes*): two exact runs of 5 s (the run and its
+  error estimate's second computation on another partition), 23,848 internal steps each with
+  the switching functions' reach checked, 6 strand switches each located on the exact
+  solution, 5,001 samples with the exact integrals the window's means come from (by powers of
+  the sample step where many fall in one piece), and the watched extremes polished on the
+  exact polynomial of their steps.
 """
 
 

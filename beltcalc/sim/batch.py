@@ -140,9 +140,9 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
                   estimate: bool = True):
     """For each network (one linear piece over the run, all of one size and time grid ``t``),
     the signals ``names`` over its window (the samples from ``first[r]`` on), computed as a
-    single run computes them (:func:`beltcalc.sim.core._outputs`, the same operations): a
-    state; ``accel_<node>`` of a coordinate, its row of ``A x + B g``
-    (:func:`beltcalc.sim.core.one_piece_accelerations`, ``g`` as propagated);
+    single run computes them (:func:`beltcalc.sim.core._outputs`; the same operations but for
+    the order of a sum, so equal to rounding): a state; ``accel_<node>`` of a coordinate, its
+    row of ``[A B] z`` (:func:`beltcalc.sim.core.one_piece_accelerations`, ``g`` as propagated);
     ``T_<coupling>``, ``C (g . phi) + d (g . omega)``
     (:meth:`beltcalc.sim.elements.Coupling.outputs_of`); and the run's error estimate as
     :func:`beltcalc.sim.core.estimate_error` forms it (the speeds against

@@ -1,6 +1,6 @@
 """Fuzz every command with the strategies of ``tests/test_fuzz.py``, many more times.
 
-    python benchmarks/fuzz.py --examples 10000 [--seed 1] [--only tension] [--timeout 60]
+    python benchmarks/fuzz.py --examples 10000 [--seed 1] [--only tension] [--timeout 150]
 
 Splits the invocations evenly over the commands, runs each in-process in its own empty
 folder, and counts per command: exit 0/1/2, each failed invariant (hang, exit code,

@@ -78,15 +78,6 @@ def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
-def _step(F: np.ndarray, scale: np.ndarray, dt: float, parts: int = 1) -> np.ndarray:
-    """``expm(F~ dt / parts)^parts`` of each run, ``F~ = D^-1 F D`` (the step of
-    :func:`beltcalc.sim.core._propagate`): one stacked call."""
-    from beltcalc.sim.core import expm
-
-    Ft = F / scale[:, :, None] * scale[:, None, :]
-    return np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
-
-
 class Propagation:
     r"""The exact solution of a stack of runs ``z_r' = F_r z_r`` at ``samples`` points ``k dt``,
     as :func:`beltcalc.sim.core._propagate` computes it for one run, with the same operations
@@ -104,13 +95,13 @@ class Propagation:
 
     def __init__(self, F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1,
                  scale: np.ndarray | None = None, step: np.ndarray | None = None):
-        from beltcalc.sim.core import orbit_stack
+        from beltcalc.sim.core import _block, balanced_step, orbit_stack
 
         self.scale = _balance(F) if scale is None else scale
         s = self.scale
         if step is None:
-            step = _step(F, s, dt, parts)
-        self.b = b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
+            step = balanced_step(F, s, dt, parts)
+        self.b = b = _block(samples)
         self.powers = _orbit_matrix(step, b)
         jump = step @ self.powers[:, b - 1]
         self.full, self.tail = divmod(samples, b)
@@ -156,7 +147,7 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     relative error estimate (None without ``estimate``). A pass holds at most
     :data:`PASS_BYTES` of states. A name of another kind raises KeyError.
     """
-    from beltcalc.sim.core import augmented_matrix, reference_rows
+    from beltcalc.sim.core import augmented_matrix, balanced_step, reference_rows
     from beltcalc.sim.switching import EPS
 
     R = len(nets)
@@ -186,7 +177,7 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     # the chunk's balancings, steps, initial states and error references: one stacked call each
     F_all = np.stack([augmented_matrix(net) for net in nets])
     scale_all = _balance(F_all)
-    step_all = _step(F_all, scale_all, dt)
+    step_all = balanced_step(F_all, scale_all, dt)
     z0_all = np.stack([np.concatenate([net.initial_state(), net.generators(0.0)]) for net in nets])
     if estimate:
         at, ref_all = reference_rows(F_all, z0_all, dt, N, speeds, scale=scale_all)

@@ -112,6 +112,14 @@ def one_piece(network: Network) -> tuple[np.ndarray, np.ndarray]:
     return hit
 
 
+def balanced_step(F: np.ndarray, scale: np.ndarray, dt: float, parts: int = 1) -> np.ndarray:
+    """``expm(F~ dt / parts)^parts`` with ``F~ = D^-1 F D`` balanced (``D = diag(scale)``): the
+    one-sample step of a one-piece run (``parts`` > 1: another partition of it), for one
+    matrix (m, m) or a stack (R, m, m) with its scales (R, m)."""
+    Ft = F / scale[..., :, None] * scale[..., None, :]
+    return np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
+
+
 def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1,
                rows=None, out: np.ndarray | None = None, scale: np.ndarray | None = None) -> np.ndarray:
     """z at t_k = k dt, k < samples, as columns (only ``rows`` of z, default all). F is
@@ -127,8 +135,7 @@ def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: in
     m = F.shape[0]
     rows = np.arange(m) if rows is None else np.asarray(rows)
     scale = balance(F) if scale is None else scale
-    Ft = F / scale[:, None] * scale[None, :]
-    step = np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
+    step = balanced_step(F, scale, dt, parts)
     b = _block(samples)
     powers = _orbit_matrix(step, b)
     jump = step @ powers[b - 1]                      # S^b
@@ -206,11 +213,8 @@ def reference_rows(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, rows,
     balancing of ``F`` where the caller has it."""
     single = F.ndim == 2
     F3, z3 = (F[None], z0[None]) if single else (F, z0)
-    if scale is None:
-        scale = np.stack([balance(f) for f in F3])
-    scale = scale.reshape(F3.shape[:2])
-    Ft = F3 / scale[:, :, None] * scale[:, None, :]
-    step = np.linalg.matrix_power(expm(Ft * (dt / 3)), 3)
+    scale = (balance(F3) if scale is None else scale).reshape(F3.shape[:2])
+    step = balanced_step(F3, scale, dt, 3)
     stride = min(_block(samples) + 1, samples - 1)
     idx = np.arange(0, samples, stride)
     z = orbit_stack(np.linalg.matrix_power(step, stride), z3 / scale, idx.size)

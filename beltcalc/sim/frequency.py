@@ -433,7 +433,7 @@ def mean_states(A: np.ndarray, b0: np.ndarray, scale: np.ndarray | None = None) 
         return a, ok
     U, sv, Vt = np.linalg.svd(At)
     null = np.sum(sv <= 1e-10 * sv[:, :1], axis=1)
-    for q in np.unique(null):
+    for q in np.flatnonzero(np.bincount(null)):     # the null-space sizes present
         idx = np.flatnonzero(null == q)
         k = m - int(q)
         y = -bt[idx]

@@ -71,6 +71,7 @@ THETA = 4.0          # ||F~ L||_1 on the bottom step
 TERMS = 34           # THETA^34 / 34! = 1e-18 < 2^-53: the Taylor series is exact to rounding
 ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |r_i z_i|
 STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
+TAYLOR_BYTES = 2e6  # a dense mode keeps its Taylor matrices (TERMS x size^2) up to this size (size <= 85)
 MAX_BLOCK = 1024     # steps propagated ahead at once (doubled from 8 while nothing happens)
 CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
@@ -106,19 +107,32 @@ def _taylor(Ft: np.ndarray, Z: np.ndarray, L: float) -> np.ndarray:
     return V
 
 
+def _taylor_matrices(Ft: np.ndarray, L: float) -> np.ndarray:
+    """T[j] = (F~ L)^j / j! for j < TERMS, stacked (TERMS * size, size): every Taylor term of
+    a state in one product, ``V = T z`` (the rows ``R`` of the switching functions are
+    ``H T[j]`` the same way). Each entry of ``T[j] z`` rounds within eps of
+    ``(|F~ L|^j / j!) |z|``, the bound of the term-by-term recursion."""
+    m = Ft.shape[0]
+    T = np.empty((TERMS, m, m))
+    T[0] = np.eye(m)
+    M = Ft * L
+    for j in range(1, TERMS):
+        np.matmul(M, T[j - 1], out=T[j])
+        T[j] /= j
+    return T.reshape(TERMS * m, m)
+
+
+POWERS = np.arange(TERMS, dtype=float)
+
+
 def _horner(V: np.ndarray, s) -> np.ndarray:
-    """sum_j s^j V[j]; s a scalar, or one value per row of V[j]."""
+    """sum_j s^j V[j]; s a scalar, or one value per row of V[j] (|s| <= 1). The powers of s
+    in one array and one product over j: every term is at most the series' own, so the sum
+    rounds within TERMS eps of the sum of their magnitudes, as Horner's does."""
     s = np.asarray(s, dtype=float)
     if s.ndim:
-        s = s[:, None]
-    else:
-        s = float(s)
-    out = V[-1].copy()
-    multiply, add = np.multiply, np.add
-    for j in range(TERMS - 2, -1, -1):       # in place: out * s + V[j]
-        multiply(out, s, out=out)
-        add(out, V[j], out=out)
-    return out
+        return np.einsum("jc,jcm->cm", np.power(s[None, :], POWERS[:, None]), V)
+    return (np.power(float(s), POWERS) @ V.reshape(TERMS, -1)).reshape(V.shape[1:])
 
 
 class Mode:
@@ -138,6 +152,7 @@ class Mode:
         self._P: dict[int, np.ndarray] = {}
         self._Q: dict[int, np.ndarray] = {}
         self._R = None
+        self._T = None
         self._B2 = None
         if self.sparse:
             self.Ft = parts.matrix(taut, t_mid)
@@ -167,12 +182,22 @@ class Mode:
         if self.sparse:
             return 12 * (TERMS * self.Ft.nnz + 2 * self.H.nnz)
         m = self.Ft.shape[0]
-        return 8 * (m * m * (3 + self.K) + TERMS * self.H.size)
+        taylor = TERMS * m * m if TERMS * m * m * 8 <= TAYLOR_BYTES else 0
+        return 8 * (m * m * (3 + self.K) + TERMS * self.H.size + taylor)
 
     def taylor(self, Z: np.ndarray) -> np.ndarray:
-        """V[j] = (F~ L)^j Z / j! for j < TERMS; Z is one state (size,) or rows (count, size)."""
+        """V[j] = (F~ L)^j Z / j! for j < TERMS; Z is one state (size,) or rows (count, size).
+        Dense: one product with the stacked Taylor matrices (:func:`_taylor_matrices`, kept
+        per mode where they take at most TAYLOR_BYTES), else term by term."""
         if not self.sparse:
-            return _taylor(self.Ft, Z, self.L)
+            m = self.Ft.shape[0]
+            if self._T is None and TERMS * m * m * 8 <= TAYLOR_BYTES:
+                self._T = _taylor_matrices(self.Ft, self.L)
+            if self._T is None:
+                return _taylor(self.Ft, Z, self.L)
+            if Z.ndim == 1:
+                return (self._T @ Z).reshape(TERMS, m)
+            return (Z @ self._T.T).reshape(Z.shape[0], TERMS, m).transpose(1, 0, 2)
         V = np.empty((TERMS, *Z.shape))
         V[0] = Z
         for j in range(1, TERMS):

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from beltcalc.sim.scalar import bounded_minimum, horner
+from beltcalc.sim.scalar import bounded_minimum
 
 GRID = 257          # points per refinement interval before the local optimum is polished
 
@@ -92,39 +92,51 @@ class Watch:
         self._last = (Z[-1].copy(), float(times[-1]), piece)
 
     def finish(self) -> None:
-        """Polish every recorded extreme on the exact polynomial around its point."""
+        """Polish every recorded extreme on the exact polynomial around its point: the
+        polynomials of every signal, side and window at once (:func:`polish_polynomials`),
+        a stiff mode's ladder one by one (:meth:`_polish`)."""
         run = self.run
         ends = run.piece_ends + [run.t_end]
+        slots, values = [], []                      # (window, side, signal), the value so far
+        jobs: list[tuple[int, list[float], float, float]] = []     # (slot, coefficients, a, b)
         for w, start in enumerate(self.windows):
             for side in (1, -1):
-                for k, name in enumerate(self.names):
+                for k in range(len(self.names)):
                     best = self.best[side][w, k]
                     if not np.isfinite(best):
                         continue
+                    slot = len(slots)
+                    slots.append((w, side, k))
+                    values.append(best)
                     mode = run.cache.get(*self.key[side][w, k])
                     tz, p = self.t[side][w, k], self.piece[side][w, k]
                     lo_t = max(start, self.piece_start[p], tz - mode.h)
                     hi_t = min(run.t_end, ends[p], tz + mode.h)
-                    value = best
-                    if hi_t > lo_t and not (self.strand[k] >= 0 and not mode.taut[self.strand[k]]):
-                        starts = [(self.z[side][w, k], tz)]
-                        t_prev = self.t_prev[side][w, k]
-                        if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
-                            starts.insert(0, (self.z_prev[side][w, k], t_prev))
-                        for z0, t0 in starts:
-                            f = self._polynomial(mode, z0, k, side)
-                            a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
-                            if mode.K:
-                                a, b = max(a, 0.0), min(b, 1.0)
-                            value = max(value, self._polish(f, a, b))
-                    if self.strand[k] >= 0:        # a taut strand pulls: what rounds below zero at a switch is zero
-                        value = max(value, 0.0) if side == 1 else min(value, 0.0)
-                    key = (name, start)
-                    lo_v, hi_v = self.result.get(key, (np.nan, np.nan))
-                    if side == 1:
-                        self.result[key] = (lo_v, value)
-                    else:
-                        self.result[key] = (-value, hi_v)
+                    if not hi_t > lo_t or (self.strand[k] >= 0 and not mode.taut[self.strand[k]]):
+                        continue
+                    starts = [(self.z[side][w, k], tz)]
+                    t_prev = self.t_prev[side][w, k]
+                    if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
+                        starts.insert(0, (self.z_prev[side][w, k], t_prev))
+                    for z0, t0 in starts:
+                        a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
+                        if mode.K == 0:      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
+                            jobs.append((slot, side * (mode.taylor(z0) @ self.O[k]), a, b))
+                        else:
+                            f = self._ladder(mode, z0, k, side)
+                            values[slot] = max(values[slot], self._polish(f, max(a, 0.0), min(b, 1.0)))
+        values = np.array(values)
+        if jobs:
+            at = np.array([j[0] for j in jobs])
+            found = polish_polynomials(np.array([j[1] for j in jobs]), np.array([j[2] for j in jobs]),
+                                       np.array([j[3] for j in jobs]))
+            np.maximum.at(values, at, found)
+        for (w, side, k), value in zip(slots, values.tolist()):
+            if self.strand[k] >= 0:        # a taut strand pulls: what rounds below zero at a switch is zero
+                value = max(value, 0.0) if side == 1 else min(value, 0.0)
+            key = (self.names[k], self.windows[w])
+            lo_v, hi_v = self.result.get(key, (np.nan, np.nan))
+            self.result[key] = (lo_v, value) if side == 1 else (-value, hi_v)
 
     @staticmethod
     def _polish(f, a: float, b: float) -> float:
@@ -143,14 +155,58 @@ class Watch:
             value = max(value, -fun)
         return value
 
-    def _polynomial(self, mode, z: np.ndarray, k: int, side: int):
-        """side * signal k at the point z + s h (s in units of the mode's step) as a function
-        of s: (on an array of s, on one float s)."""
+    def _ladder(self, mode, z: np.ndarray, k: int, side: int):
+        """side * signal k at the point z + s h of a stiff mode (s in units of its coarse
+        step, read forward on its ladder) as a function of s: (on an array of s, on one float)."""
         row = self.O[k]
-        if mode.K == 0:
-            c = (side * (mode.taylor(z) @ row)).tolist()      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
-            return (lambda s: horner(c, s)), (lambda s: horner(c, float(s)))
 
-        def g(s):                                       # stiff ladder: forward from z
+        def g(s):
             return side * (mode.at(np.repeat(z[None], s.size, axis=0), s * mode.h) @ row)
         return g, lambda s: float(g(np.array([s]))[0])
+
+
+NEWTON = 12         # safeguarded Newton steps of the vectorised polish
+
+
+def _horner_rows(C: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Row r of C (coefficients, lowest first) at the points x[r] (x: (rows,) or (rows, points))."""
+    c = C if x.ndim == 1 else C[:, None, :]
+    y = np.zeros(x.shape)
+    for j in range(C.shape[1] - 1, -1, -1):
+        y *= x
+        y += c[..., j]
+    return y
+
+
+def polish_polynomials(C: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The largest value of each polynomial ``sum_j C[r, j] s^j`` on [a[r], b[r]] (|s| <= 1),
+    all at once: a grid of GRID points, then safeguarded Newton steps on ``p' = 0`` inside
+    the grid cells either side of the grid's best point (a bisection step wherever Newton
+    would leave the bracket or p is not concave there). Never below the grid's best value;
+    -inf where the interval is empty. Newton converges quadratically from a cell of
+    (b - a) / 256: the value is the polynomial's maximum to rounding, as a bounded Brent
+    search to 1e-9 of the interval gives it (``tests/test_watch.py``)."""
+    P, T = C.shape
+    out = np.full(P, -np.inf)
+    ok = b > a
+    if not ok.any():
+        return out
+    C, a, b = C[ok], a[ok], b[ok]
+    rows = np.arange(C.shape[0])
+    s = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, GRID)[None, :]
+    y = _horner_rows(C, s)
+    i = np.argmax(y, axis=1)
+    best = y[rows, i]
+    lo, hi, x = s[rows, np.maximum(i - 1, 0)], s[rows, np.minimum(i + 1, GRID - 1)], s[rows, i]
+    D1 = C[:, 1:] * np.arange(1, T)
+    D2 = D1[:, 1:] * np.arange(1, T - 1)
+    for _ in range(NEWTON):
+        d1, d2 = _horner_rows(D1, x), _horner_rows(D2, x)
+        lo = np.where(d1 > 0, x, lo)                 # the maximum lies where p' changes sign
+        hi = np.where(d1 < 0, x, hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = x - d1 / d2
+        good = (d2 < 0) & (step > lo) & (step < hi)
+        x = np.where(good, step, 0.5 * (lo + hi))
+    out[ok] = np.maximum(best, np.maximum(_horner_rows(C, x), np.maximum(_horner_rows(C, lo), _horner_rows(C, hi))))
+    return out

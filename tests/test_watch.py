@@ -1,0 +1,70 @@
+"""The watch's vectorised polish of extremes (beltcalc/sim/watch.py, ``polish_polynomials``):
+the largest value of each Taylor polynomial on its interval, checked against scipy's
+bounded Brent search on a dense grid (an independent reference), and its edge cases."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from scipy.optimize import minimize_scalar
+
+from beltcalc.sim.switching import TERMS
+from beltcalc.sim.watch import polish_polynomials
+
+
+def reference_max(c: np.ndarray, a: float, b: float) -> float:
+    """max of sum c_j s^j on [a, b]: a grid of 20,001 points, then scipy's bounded search
+    (to 1e-15 of the interval) around its best point."""
+    p = np.polynomial.Polynomial(c)
+    s = np.linspace(a, b, 20001)
+    y = p(s)
+    i = int(np.argmax(y))
+    lo, hi = s[max(i - 1, 0)], s[min(i + 1, s.size - 1)]
+    best = float(y[i])
+    if hi > lo:
+        r = minimize_scalar(lambda x: -p(x), bounds=(lo, hi), method="bounded",
+                            options={"xatol": 1e-15 * (b - a)})
+        best = max(best, -float(r.fun))
+    return best
+
+
+def taylor_like(rng: np.random.Generator, count: int) -> np.ndarray:
+    """Coefficients of the kind the watch polishes: a signal's Taylor polynomial over one bottom
+    step, c_j ~ THETA^j / j! (THETA = 4) with random signs, plus a large constant part."""
+    j = np.arange(TERMS)
+    size = 4.0 ** j / np.array([float(math.factorial(int(k))) for k in j])
+    C = rng.standard_normal((count, TERMS)) * size
+    C[:, 0] += rng.uniform(-50, 50, count)
+    return C
+
+
+def test_polish_finds_the_maximum_of_taylor_polynomials():
+    rng = np.random.default_rng(7)
+    C = taylor_like(rng, 60)
+    a = rng.uniform(-1.0, 0.0, 60)
+    b = rng.uniform(0.0, 1.0, 60)
+    got = polish_polynomials(C, a, b)
+    want = np.array([reference_max(C[r], a[r], b[r]) for r in range(60)])
+    scale = np.abs(C).sum(axis=1)           # the rounding of one evaluation is relative to this
+    assert_allclose(got / scale, want / scale, rtol=0, atol=1e-14)
+
+
+def test_polish_matches_the_search_it_replaced_where_the_peak_is_interior():
+    # a peak well inside the interval: p(s) = 3 - 40 (s - 0.3)^2 + small higher terms
+    c = np.zeros(TERMS)
+    c[0], c[1], c[2] = 3 - 40 * 0.09, 40 * 0.6, -40.0
+    c[3:8] = 1e-3 * np.arange(1, 6)
+    got = polish_polynomials(c[None], np.array([-1.0]), np.array([1.0]))[0]
+    assert got == pytest.approx(reference_max(c, -1.0, 1.0), rel=1e-15, abs=1e-15)
+
+
+def test_polish_at_an_end_and_on_an_empty_interval():
+    c = np.zeros(TERMS)
+    c[0], c[1] = 1.0, 2.0                     # increasing: the maximum is at b
+    got = polish_polynomials(np.vstack([c, c, -c]), np.array([-0.5, 0.2, -0.5]), np.array([0.25, 0.2, 0.25]))
+    assert got[0] == pytest.approx(1.5, rel=1e-15)
+    assert got[1] == -np.inf                   # empty interval
+    assert got[2] == pytest.approx(0.0, abs=1e-15)    # -(1 + 2 s): largest at s = -0.5

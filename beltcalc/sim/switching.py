@@ -72,11 +72,30 @@ TERMS = 34           # THETA^34 / 34! = 1e-18 < 2^-53: the Taylor series is exac
 ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |r_i z_i|
 STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
 TAYLOR_BYTES = 2e6  # a dense mode keeps its Taylor matrices (TERMS x size^2) up to this size (size <= 85)
-MAX_BLOCK = 1024     # steps propagated ahead at once (doubled from 8 while nothing happens)
+MAX_BLOCK = 2048     # steps propagated ahead at once (doubled from FIRST_BLOCK while nothing happens)
+FIRST_BLOCK = 64     # steps of a run's first block; later, half the previous stretch's (Run.advance)
 CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
+
+
+def terms_for(scale: float) -> int:
+    """Taylor terms of a bottom step ``scale`` times the standard one (``||F~ L||_1 = scale
+    THETA``): TERMS up to the standard step; beyond it the fewest T whose remainder bound
+    ``(scale THETA)^T / T!`` is at most the standard one's, ``THETA^TERMS / TERMS!`` (1e-18).
+    The error estimate's second run takes longer steps (:data:`beltcalc.sim.core.ESTIMATE_STEP`:
+    1.5, 42 terms): fewer steps, the same truncation, more rounding (the sum of the terms'
+    magnitudes grows as exp(scale THETA)), which only makes the estimate larger."""
+    theta = scale * THETA
+    if theta <= THETA:
+        return TERMS
+    bound = THETA ** TERMS / math.factorial(TERMS)
+    T, term = 1, theta
+    while term > bound or T < TERMS:
+        T += 1
+        term *= theta / T
+    return T
 
 
 def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
@@ -94,45 +113,62 @@ def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
     return out
 
 
-def _taylor(Ft: np.ndarray, Z: np.ndarray, L: float) -> np.ndarray:
-    """V[j] = (F~ L)^j Z / j! for j < TERMS; Z is one state (size,) or rows (count, size)."""
-    V = np.empty((TERMS, *Z.shape))
+def _taylor(Ft: np.ndarray, Z: np.ndarray, L: float, terms: int = TERMS) -> np.ndarray:
+    """V[j] = (F~ L)^j Z / j! for j < terms; Z is one state (size,) or rows (count, size)."""
+    V = np.empty((terms, *Z.shape))
     V[0] = Z
     M = Ft.T * L
     matmul, divide = np.matmul, np.divide
-    for j in range(1, TERMS):                # in place: (V[j-1] @ M) / j, without temporaries
+    for j in range(1, terms):                # in place: (V[j-1] @ M) / j, without temporaries
         v = V[j]
         matmul(V[j - 1], M, out=v)
         divide(v, j, out=v)
     return V
 
 
-def _taylor_matrices(Ft: np.ndarray, L: float) -> np.ndarray:
-    """T[j] = (F~ L)^j / j! for j < TERMS, stacked (TERMS * size, size): every Taylor term of
+def _taylor_matrices(Ft: np.ndarray, L: float, terms: int = TERMS) -> np.ndarray:
+    """T[j] = (F~ L)^j / j! for j < terms, stacked (terms * size, size): every Taylor term of
     a state in one product, ``V = T z`` (the rows ``R`` of the switching functions are
     ``H T[j]`` the same way). Each entry of ``T[j] z`` rounds within eps of
     ``(|F~ L|^j / j!) |z|``, the bound of the term-by-term recursion."""
     m = Ft.shape[0]
-    T = np.empty((TERMS, m, m))
+    T = np.empty((terms, m, m))
     T[0] = np.eye(m)
     M = Ft * L
-    for j in range(1, TERMS):
+    for j in range(1, terms):
         np.matmul(M, T[j - 1], out=T[j])
         T[j] /= j
-    return T.reshape(TERMS * m, m)
-
-
-POWERS = np.arange(TERMS, dtype=float)
+    return T.reshape(terms * m, m)
 
 
 def _horner(V: np.ndarray, s) -> np.ndarray:
     """sum_j s^j V[j]; s a scalar, or one value per row of V[j] (|s| <= 1). The powers of s
     in one array and one product over j: every term is at most the series' own, so the sum
-    rounds within TERMS eps of the sum of their magnitudes, as Horner's does."""
+    rounds within (terms) eps of the sum of their magnitudes, as Horner's does."""
     s = np.asarray(s, dtype=float)
+    powers = np.arange(V.shape[0], dtype=float)
     if s.ndim:
-        return np.einsum("jc,jcm->cm", np.power(s[None, :], POWERS[:, None]), V)
-    return (np.power(float(s), POWERS) @ V.reshape(TERMS, -1)).reshape(V.shape[1:])
+        return np.einsum("jc,jcm->cm", np.power(s[None, :], powers[:, None]), V)
+    return (np.power(float(s), powers) @ V.reshape(V.shape[0], -1)).reshape(V.shape[1:])
+
+
+class _StepIntegrals:
+    """The state's integral from 0 at the step points of one block, ``I[r] = I0 + Q sum_(i<r)
+    Z[i]`` (``Q`` the integral of one step's exponential, :meth:`Mode.Q`; None where the rows
+    summed are already the steps' integrals, the sparse path's), formed only at the rows
+    asked for (``self[r]``, r an index or an index array): the prefix sums of the states cost
+    one pass, and the product with Q is paid for the few rows read (a block's first sample,
+    a switch, its end) instead of for every step."""
+
+    def __init__(self, I0: np.ndarray, rows: np.ndarray, Q: np.ndarray | None = None):
+        self.I0, self.Q = I0, Q
+        self.S = np.empty((rows.shape[0] + 1, rows.shape[1]))
+        self.S[0] = 0.0
+        np.cumsum(rows, axis=0, out=self.S[1:])
+
+    def __getitem__(self, r) -> np.ndarray:
+        s = self.S[r]
+        return self.I0 + (s if self.Q is None else s @ self.Q.T)
 
 
 class Mode:
@@ -154,6 +190,7 @@ class Mode:
         self._R = None
         self._T = None
         self._B2 = None
+        self.terms = terms_for(scale)
         if self.sparse:
             self.Ft = parts.matrix(taut, t_mid)
             norm = float(abs(self.Ft).sum(axis=0).max())
@@ -161,7 +198,7 @@ class Mode:
             self.K, self.h = 0, self.L
             self.H = parts.rows(taut)
             self.absH = abs(self.H)
-            self.Ms = [(self.Ft * (self.L / j)).tocsr() for j in range(1, TERMS)]
+            self.Ms = [(self.Ft * (self.L / j)).tocsr() for j in range(1, self.terms)]
             return
         from beltcalc.sim.core import augmented_matrix
 
@@ -180,46 +217,46 @@ class Mode:
     def nbytes(self) -> int:
         """Memory the mode holds once its ladder and rows are built (a fixed figure)."""
         if self.sparse:
-            return 12 * (TERMS * self.Ft.nnz + 2 * self.H.nnz)
-        m = self.Ft.shape[0]
-        taylor = TERMS * m * m if TERMS * m * m * 8 <= TAYLOR_BYTES else 0
-        return 8 * (m * m * (3 + self.K) + TERMS * self.H.size + taylor)
+            return 12 * (self.terms * self.Ft.nnz + 2 * self.H.nnz)
+        m, terms = self.Ft.shape[0], self.terms
+        taylor = terms * m * m if terms * m * m * 8 <= TAYLOR_BYTES else 0
+        return 8 * (m * m * (3 + self.K) + terms * self.H.size + taylor)
 
     def taylor(self, Z: np.ndarray) -> np.ndarray:
-        """V[j] = (F~ L)^j Z / j! for j < TERMS; Z is one state (size,) or rows (count, size).
+        """V[j] = (F~ L)^j Z / j! for j < terms; Z is one state (size,) or rows (count, size).
         Dense: one product with the stacked Taylor matrices (:func:`_taylor_matrices`, kept
         per mode where they take at most TAYLOR_BYTES), else term by term."""
+        terms = self.terms
         if not self.sparse:
             m = self.Ft.shape[0]
-            if self._T is None and TERMS * m * m * 8 <= TAYLOR_BYTES:
-                self._T = _taylor_matrices(self.Ft, self.L)
+            if self._T is None and terms * m * m * 8 <= TAYLOR_BYTES:
+                self._T = _taylor_matrices(self.Ft, self.L, terms)
             if self._T is None:
-                return _taylor(self.Ft, Z, self.L)
+                return _taylor(self.Ft, Z, self.L, terms)
             if Z.ndim == 1:
-                return (self._T @ Z).reshape(TERMS, m)
-            return (Z @ self._T.T).reshape(Z.shape[0], TERMS, m).transpose(1, 0, 2)
-        V = np.empty((TERMS, *Z.shape))
+                return (self._T @ Z).reshape(terms, m)
+            return (Z @ self._T.T).reshape(Z.shape[0], terms, m).transpose(1, 0, 2)
+        V = np.empty((terms, *Z.shape))
         V[0] = Z
-        for j in range(1, TERMS):
+        for j in range(1, self.terms):
             V[j] = self.Ms[j - 1] @ V[j - 1] if Z.ndim == 1 else (self.Ms[j - 1] @ V[j - 1].T).T
         return V
 
     def orbit(self, z: np.ndarray, count: int, stop_early: bool = False, integrate: bool = False):
         """The states at ``count`` bottom steps from z (rows Z, count + 1 of them) and the
-        switching functions' polynomial coefficients on each step, C (TERMS, events, count).
+        switching functions' polynomial coefficients on each step, C (terms, events, count).
         ``stop_early`` (sparse): end the block after the first step where a switching
         function comes within its polynomial's reach of zero (nothing is propagated past a
-        switch only to be thrown away). ``integrate``: also J, the integral of z over each
-        step (rows; None otherwise)."""
+        switch only to be thrown away). ``integrate`` (sparse): also J, the integral of z over
+        each step (rows; None otherwise: a dense run integrates by :class:`_StepIntegrals`)."""
         if not self.sparse:
-            Z = _orbit(self.P(0), z, count + 1)
-            return Z, None, (Z[:count] @ self.Q(0).T if integrate else None)
+            return _orbit(self.P(0), z, count + 1), None, None
         Z = np.empty((count + 1, z.size))
         Z[0] = z
-        C = np.empty((count, len(self.events), TERMS))
+        C = np.empty((count, len(self.events), self.terms))
         J = np.empty((count, z.size)) if integrate else None
-        weights = self.L / np.arange(1, TERMS + 1)
-        V = np.empty((TERMS, z.size))
+        weights = self.L / np.arange(1, self.terms + 1)
+        V = np.empty((self.terms, z.size))
         Ms, H, absH = self.Ms, self.H, self.absH
         kernel = _sparse_kernel()
         if kernel is not None:
@@ -229,10 +266,10 @@ class Mode:
             V[0] = Z[i]
             if kernel is not None:
                 V[1:] = 0.0
-                for j in range(1, TERMS):
+                for j in range(1, self.terms):
                     kernel(m, m, *parts[j - 1], V[j - 1], V[j])
             else:
-                for j in range(1, TERMS):
+                for j in range(1, self.terms):
                     V[j] = Ms[j - 1] @ V[j - 1]
             Z[i + 1] = V.sum(axis=0)
             if integrate:
@@ -246,15 +283,15 @@ class Mode:
         return Z, C.transpose(2, 1, 0), J
 
     def coeffs(self, Z: np.ndarray) -> np.ndarray:
-        """C (TERMS, events, rows of Z): every switching function's polynomial on the bottom
+        """C (terms, events, rows of Z): every switching function's polynomial on the bottom
         step from each row of Z."""
         if not self.events:
-            return np.zeros((TERMS, 0, Z.shape[0]))
+            return np.zeros((self.terms, 0, Z.shape[0]))
         if self.sparse:
-            V = self.taylor(Z)                                       # (TERMS, count, size)
-            return np.stack([(self.H @ V[j].T) for j in range(TERMS)])
+            V = self.taylor(Z)                                       # (terms, count, size)
+            return np.stack([(self.H @ V[j].T) for j in range(self.terms)])
         E = len(self.events)
-        return (self.R.reshape(TERMS * E, -1) @ Z.T).reshape(TERMS, E, Z.shape[0])
+        return (self.R.reshape(self.terms * E, -1) @ Z.T).reshape(self.terms, E, Z.shape[0])
 
     def P(self, k: int) -> np.ndarray:
         """expm(F~ h / 2^k): the ladder, built bottom-up by squaring from the bottom step."""
@@ -300,7 +337,7 @@ class Mode:
             A = self.Ft * self.L
             eye = np.eye(A.shape[0])
             M = eye.copy()
-            for j in range(TERMS, 1, -1):
+            for j in range(self.terms, 1, -1):
                 M = eye + (A @ M) / j
             Q = self.L * M
             self._Q[self.K] = Q
@@ -320,25 +357,28 @@ class Mode:
         if self._B2 is None:
             A, H = np.abs(self.Ft * self.L), self.absH
             B, M, fact = np.zeros_like(H), H, 2.0
-            for j in range(2, TERMS):
+            for j in range(2, self.terms):
                 B += M / fact
                 M, fact = M @ A, fact * (j + 1)
-            self._B2 = B
+            self._B2 = np.ascontiguousarray(B.T)
             A = self.Ft * self.L
-            self._HA, self._A2 = self.H @ A, A @ A
-        bound = np.abs(Z @ self._HA.T).T + self._B2 @ np.abs(Z @ self._A2.T).T
-        C0 = np.abs(Z @ self.H.T).T
-        return (C0 <= bound + tol) & (bound + C0 > tol)
+            self._W = np.ascontiguousarray(np.vstack([self.H @ A, self.H, A @ A]).T)   # one product for all three
+        E = self.H.shape[0]
+        P = np.abs(Z @ self._W)                        # (rows, E + E + size): |H A z|, |H z|, |A^2 z|
+        bound = P[:, :E] + P[:, 2 * E:] @ self._B2
+        C0 = P[:, E:2 * E]
+        tol = tol.T
+        return ((C0 <= bound + tol) & (bound + C0 > tol)).T
 
     @property
     def R(self) -> np.ndarray:
         """R[j] = H (F~ L)^j / j!: the polynomial coefficients of every switching function on
         a bottom step are R @ z."""
         if self._R is None:
-            R = np.empty((TERMS, *self.H.shape))
+            R = np.empty((self.terms, *self.H.shape))
             R[0] = self.H
             M = self.Ft * self.L
-            for j in range(1, TERMS):
+            for j in range(1, self.terms):
                 R[j] = (R[j - 1] @ M) / j
             self._R = R
         return self._R
@@ -370,7 +410,7 @@ class Mode:
         V = self.taylor(Z)
         if not integrate:
             return _horner(V, frac)
-        W = V * (self.L / np.arange(1, TERMS + 1)).reshape((TERMS,) + (1,) * (V.ndim - 1))
+        W = V * (self.L / np.arange(1, self.terms + 1)).reshape((self.terms,) + (1,) * (V.ndim - 1))
         return _horner(V, frac), I + _horner(W, frac) * (frac[:, None] if np.ndim(frac) else frac)
 
 
@@ -557,6 +597,7 @@ class Run:
         self.switches: list[tuple[float, int, bool]] = []
         self.located = 0
         self.steps = 0
+        self.first_block = FIRST_BLOCK
         delta, force = network.strand_rows()
         self.delta = delta * self.S[None, :]
         self.force = force * self.S[None, :]
@@ -621,12 +662,13 @@ class Run:
             else:
                 Z, I = mode.at(base[k], tau, integrate=True)
                 I += I_base[k]
-            self.integrals[:, idx] = (I * self.S[None, :]).T[:self.m]
+            cols = slice(self.next_out, stop)          # the samples written: idx, as a slice
+            self.integrals[:, cols] = (I * self.S[None, :]).T[:self.m]
             on = np.asarray(mode.taut, dtype=float)
-            self.force_integrals[:, idx] = self.F_run[:, None] + on[:, None] * (self.force @ (I - self.I_piece).T)
+            self.force_integrals[:, cols] = self.F_run[:, None] + on[:, None] * (self.force @ (I - self.I_piece).T)
         else:
             Z = mode.at(base[k], tau)
-        self.out[:, idx] = (Z * self.S[None, :]).T[:self.m]
+        self.out[:, self.next_out:stop] = (Z * self.S[None, :]).T[:self.m]
         self.next_out = stop
 
     # --- decisions ----------------------------------------------------------------------------
@@ -751,15 +793,23 @@ class Run:
     # --- the run ------------------------------------------------------------------------------
     def advance(self, mode: Mode, z: np.ndarray, t0: float, t_stop: float):
         """Propagate from (t0, z) to the first crossing or to t_stop, writing the outputs on
-        the way: (t, z, event) of the crossing, or (t_stop, z(t_stop), None)."""
+        the way: (t, z, event) of the crossing, or (t_stop, z(t_stop), None). The next
+        stretch's first block is half this one's steps (8 to MAX_BLOCK): switches that come
+        every few steps are not overshot by much, long quiet stretches take few blocks."""
+        start = self.steps
+        out = self._advance(mode, z, t0, t_stop)
+        self.first_block = min(MAX_BLOCK, max(8, (self.steps - start) // 2))
+        return out
+
+    def _advance(self, mode: Mode, z: np.ndarray, t0: float, t_stop: float):
         h = mode.h
         total = (t_stop - t0) / h
         n_full = int(math.floor(total * (1 + 4 * EPS)))
         rem = (t_stop - t0) - n_full * h
         if rem <= 4 * EPS * max(abs(t_stop), h):
             rem = 0.0
-        i, block, first = 0, 8, True
-        most = max(8, int(SPARSE_BLOCK / (TERMS * max(1, len(mode.events))))) if mode.sparse else MAX_BLOCK
+        i, block, first = 0, self.first_block, True
+        most = max(8, int(SPARSE_BLOCK / (mode.terms * max(1, len(mode.events))))) if mode.sparse else MAX_BLOCK
         integ = self.integrate
         self.I_piece = self.I_run
         while i < n_full:
@@ -767,7 +817,7 @@ class Run:
             times = t0 + (i + np.arange(cnt + 1)) * h
             J = None
             if mode.K == 0:
-                Z, C, J = mode.orbit(z, cnt, stop_early=True, integrate=integ)
+                Z, C, J = mode.orbit(z, cnt, stop_early=True, integrate=integ and mode.sparse)
                 cnt = Z.shape[0] - 1
                 times = times[:cnt + 1]
                 hit = self._scan_exact(mode, Z, first, C=C)
@@ -785,14 +835,9 @@ class Run:
                         found = (int(j), res[0], res[1])
                         break
                 self.steps += cnt if found is None else int(found[0]) + 1
-                if integ:
-                    J = Z[:cnt] @ mode.Q(0).T
             Ib = None
-            if integ:                                  # the integral at every step point
-                Ib = np.empty((cnt + 1, z.size))
-                Ib[0] = self.I_run
-                np.cumsum(J, axis=0, out=Ib[1:])
-                Ib[1:] += self.I_run
+            if integ:                                  # the integral at the step points, as asked for
+                Ib = _StepIntegrals(self.I_run, Z[:cnt], mode.Q(0)) if J is None else _StepIntegrals(self.I_run, J)
             if found is not None:
                 j, tau, e = found
                 te = times[j] + tau

@@ -45,7 +45,9 @@ class Watch:
         self.z_prev = {side: np.zeros((nw, k, size)) for side in (1, -1)}
         self.t_prev = {side: np.full((nw, k), np.nan) for side in (1, -1)}
         self._last: tuple[np.ndarray, float, int] | None = None
-        self.key = {side: np.empty((nw, k), dtype=object) for side in (1, -1)}
+        self.key = {side: np.zeros((nw, k), dtype=np.int64) for side in (1, -1)}   # index into self.keys
+        self.keys: list[tuple] = []          # mode keys (pattern, piece, time): the cache rebuilds the mode
+        self._key_index: dict[tuple, int] = {}
         self.piece = {side: np.zeros((nw, k), dtype=np.int64) for side in (1, -1)}
         self.piece_start: list[float] = []
 
@@ -60,35 +62,42 @@ class Watch:
         return v
 
     def update(self, mode, Z: np.ndarray, times: np.ndarray, piece: int) -> None:
-        """Step points Z (rows, balanced) at ``times`` of piece number ``piece`` in ``mode``."""
+        """Step points Z (rows, balanced) at ``times`` (ascending) of piece number ``piece`` in
+        ``mode``: each signal's largest and smallest value per window, with the step point
+        before it."""
         while len(self.piece_start) <= piece:
             self.piece_start.append(float(times[0]))
+        key = self._key_index.get(mode.key)
+        if key is None:
+            key = self._key_index[mode.key] = len(self.keys)
+            self.keys.append(mode.key)
         vals = self.values(mode.taut, Z)
         cols = np.arange(vals.shape[1])
         for w, start in enumerate(self.windows):
-            inside = np.nonzero(times >= start)[0]
-            if inside.size == 0:
+            first = int(np.searchsorted(times, start))         # the rows inside the window: first..
+            if first >= times.size:
                 continue
-            for side in (1, -1):
-                v = side * vals[inside]
-                at = np.argmax(v, axis=0)
-                top = v[at, cols]
+            inside = vals[first:]
+            for side, at in ((1, inside.argmax(axis=0)), (-1, inside.argmin(axis=0))):
+                top = side * inside[at, cols]
                 better = top > self.best[side][w]
-                if better.any():
-                    rows = inside[at[better]]
-                    self.best[side][w, better] = top[better]
-                    self.z[side][w, better] = Z[rows]
-                    self.t[side][w, better] = times[rows]
-                    self.piece[side][w, better] = piece
-                    for k, r in zip(np.nonzero(better)[0], rows):
-                        if r > 0:
-                            self.z_prev[side][w, k], self.t_prev[side][w, k] = Z[r - 1], times[r - 1]
-                        elif self._last is not None and self._last[2] == piece:
-                            self.z_prev[side][w, k], self.t_prev[side][w, k] = self._last[0], self._last[1]
-                        else:
-                            self.t_prev[side][w, k] = np.nan
-                    for k in np.nonzero(better)[0]:
-                        self.key[side][w, k] = mode.key     # (pattern, piece, time): the cache rebuilds it
+                if not better.any():
+                    continue
+                ks, rows = np.nonzero(better)[0], first + at[better]
+                self.best[side][w, ks] = top[ks]
+                self.z[side][w, ks] = Z[rows]
+                self.t[side][w, ks] = times[rows]
+                self.piece[side][w, ks] = piece
+                self.key[side][w, ks] = key
+                inner = rows > 0
+                self.z_prev[side][w, ks[inner]] = Z[rows[inner] - 1]
+                self.t_prev[side][w, ks[inner]] = times[rows[inner] - 1]
+                edge = ks[~inner]
+                if edge.size:
+                    if self._last is not None and self._last[2] == piece:
+                        self.z_prev[side][w, edge], self.t_prev[side][w, edge] = self._last[0], self._last[1]
+                    else:
+                        self.t_prev[side][w, edge] = np.nan
         self._last = (Z[-1].copy(), float(times[-1]), piece)
 
     def finish(self) -> None:
@@ -108,7 +117,7 @@ class Watch:
                     slot = len(slots)
                     slots.append((w, side, k))
                     values.append(best)
-                    mode = run.cache.get(*self.key[side][w, k])
+                    mode = run.cache.get(*self.keys[self.key[side][w, k]])
                     tz, p = self.t[side][w, k], self.piece[side][w, k]
                     lo_t = max(start, self.piece_start[p], tz - mode.h)
                     hi_t = min(run.t_end, ends[p], tz + mode.h)
@@ -128,8 +137,10 @@ class Watch:
         values = np.array(values)
         if jobs:
             at = np.array([j[0] for j in jobs])
-            found = polish_polynomials(np.array([j[1] for j in jobs]), np.array([j[2] for j in jobs]),
-                                       np.array([j[3] for j in jobs]))
+            C = np.zeros((len(jobs), max(len(j[1]) for j in jobs)))   # a run's modes share one term count
+            for r, j in enumerate(jobs):
+                C[r, :len(j[1])] = j[1]
+            found = polish_polynomials(C, np.array([j[2] for j in jobs]), np.array([j[3] for j in jobs]))
             np.maximum.at(values, at, found)
         for (w, side, k), value in zip(slots, values.tolist()):
             if self.strand[k] >= 0:        # a taut strand pulls: what rounds below zero at a switch is zero

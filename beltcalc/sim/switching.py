@@ -73,7 +73,8 @@ ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |
 STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
 TAYLOR_BYTES = 2e6  # a dense mode keeps its Taylor matrices (TERMS x size^2) up to this size (size <= 85)
 MAX_BLOCK = 2048     # steps propagated ahead at once (doubled from FIRST_BLOCK while nothing happens)
-FIRST_BLOCK = 64     # steps of a run's first block; later, half the previous stretch's (Run.advance)
+FIRST_BLOCK = 64     # steps of a run's first block; later, half the previous stretch's (Run.advance) ...
+FIRST_FLOPS = 2e6    # ... and at most this many state-size^2 products (size 19: 5540 steps, 245: 33)
 CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
@@ -86,7 +87,7 @@ def terms_for(scale: float) -> int:
     ``(scale THETA)^T / T!`` is at most the standard one's, ``THETA^TERMS / TERMS!`` (1e-18).
     The error estimate's second run takes longer steps (:data:`beltcalc.sim.core.ESTIMATE_STEP`:
     1.5, 42 terms): fewer steps, the same truncation, more rounding (the sum of the terms'
-    magnitudes grows as exp(scale THETA)), which only makes the estimate larger."""
+    magnitudes grows as exp(scale THETA)), which tends to make the estimate larger, not smaller."""
     theta = scale * THETA
     if theta <= THETA:
         return TERMS
@@ -794,11 +795,14 @@ class Run:
     def advance(self, mode: Mode, z: np.ndarray, t0: float, t_stop: float):
         """Propagate from (t0, z) to the first crossing or to t_stop, writing the outputs on
         the way: (t, z, event) of the crossing, or (t_stop, z(t_stop), None). The next
-        stretch's first block is half this one's steps (8 to MAX_BLOCK): switches that come
-        every few steps are not overshot by much, long quiet stretches take few blocks."""
+        stretch's first block is half this one's steps, at most FIRST_FLOPS / size^2 steps
+        (8 to MAX_BLOCK): switches that come every few steps are not overshot by much, long
+        quiet stretches of a small network take few blocks, and a large network never
+        propagates much past an early switch."""
         start = self.steps
         out = self._advance(mode, z, t0, t_stop)
-        self.first_block = min(MAX_BLOCK, max(8, (self.steps - start) // 2))
+        m = mode.Ft.shape[0]
+        self.first_block = max(8, min(MAX_BLOCK, (self.steps - start) // 2, int(FIRST_FLOPS / (m * m))))
         return out
 
     def _advance(self, mode: Mode, z: np.ndarray, t0: float, t_stop: float):

@@ -721,20 +721,22 @@ def _cache_file(files: list[Path]) -> Path | None:
     if not folder:
         base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
         folder = os.path.join(base, "beltcalc")
-    digest = hashlib.sha256(str(builtin_dir().resolve()).encode())     # the sources name their paths
+    where = hashlib.sha256(str(builtin_dir().resolve()).encode()).hexdigest()[:12]   # entries name their file
+    digest = hashlib.sha256()
     for path in [*files, Path(__file__), Path(__file__).with_name("units.py")]:
         digest.update(str(path.name).encode() + b"\0")
         try:
             digest.update(path.read_bytes())
         except OSError:
             return None
-    return Path(folder) / f"catalog-{digest.hexdigest()[:32]}.pickle"
+    return Path(folder) / f"catalog-{where}-{digest.hexdigest()[:32]}.pickle"
 
 
 def _builtin_catalog() -> Catalog:
     """The built-in catalogs: unpickled from :func:`_cache_file` (0.3 ms) where it exists,
     else read from their TOML files (about 11 ms: parsing and unit conversion) and then
-    written there atomically. A cache that cannot be read or written is ignored (the files
+    written there atomically, replacing the file an earlier version of the same folder left
+    (one file per checkout). A cache that cannot be read or written is ignored (the files
     are read); a fresh :class:`Catalog` every call (callers add files to it)."""
     import pickle
 
@@ -761,6 +763,10 @@ def _builtin_catalog() -> Catalog:
             finally:
                 if tmp.exists():
                     tmp.unlink()
+            prefix = cache.name.rsplit("-", 1)[0] + "-"       # this folder's older versions: one file each
+            for old in cache.parent.glob(prefix + "*.pickle"):
+                if old != cache:
+                    old.unlink(missing_ok=True)
         except OSError:
             pass
     return catalog

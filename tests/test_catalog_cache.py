@@ -11,6 +11,8 @@ import pytest
 import beltcalc.catalogs as catalogs
 from beltcalc.catalogs import CACHE_ENV, load_catalog
 
+ORIGINAL_DIR = catalogs.builtin_dir
+
 
 def summary(cat) -> dict:
     """Every entry's name and a few numbers, and the files read."""
@@ -76,7 +78,11 @@ def test_an_edited_catalog_file_is_never_read_from_a_stale_cache(monkeypatch, tm
     assert text.count("2200") == 1
     path.write_text(text.replace("2200", "2100"), encoding="utf-8")
     assert load_catalog().belt("AT10").width_row(0.025).F_Tadm == pytest.approx(2100.0)
+    assert len(list((tmp_path / "cache").glob("catalog-*.pickle"))) == 1     # the older version replaced
+    monkeypatch.setattr(catalogs, "builtin_dir", ORIGINAL_DIR)
+    load_catalog()                                                           # another folder: its own file
     assert len(list((tmp_path / "cache").glob("catalog-*.pickle"))) == 2
+    monkeypatch.setattr(catalogs, "builtin_dir", lambda: root)
     assert all(str(root) in f for f in load_catalog().files)
 
 

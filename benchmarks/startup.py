@@ -49,10 +49,13 @@ FLOOR = [sys.executable, "-c", "import pint; pint.UnitRegistry(cache_folder=':au
 FLOOR_GC = [sys.executable, "-c", "import gc; gc.disable(); import pint; pint.UnitRegistry(cache_folder=':auto:'); "
             "gc.freeze()"]
 # commands above the target are broken down (floor, scipy imports, the calculation, the rest)
-BREAKDOWN = [["simulate", "sewing"], ["simulate", "drive", "conveyor"], ["response"]]
+BREAKDOWN = [["simulate", "sewing"], ["simulate", "roller-table"], ["simulate", "drive", "conveyor"], ["response"]]
 COMMANDS = [["--help"], ["simulate", "sewing", "--help"], ["simulate", "roller-table", "--help"], ["tension"],
             ["catalog", "list"], ["motor-size"], ["belt-drive"], ["chain"], ["simulate", "sewing"],
-            ["simulate", "drive", "conveyor"], ["modes"], ["response"], ["campbell"]]
+            ["simulate", "roller-table"], ["simulate", "linear-axis"], ["simulate", "drive", "conveyor"],
+            ["simulate", "drive", "sewing"], ["simulate", "drive", "roller_table"],
+            ["simulate", "drive", "linear_axis"], ["simulate", "drive", "friswell_5_disks"],
+            ["simulate", "drive", "friswell_geared"], ["modes"], ["response"], ["campbell"]]
 
 CHILD = r'''
 import json, sys, time
@@ -241,6 +244,13 @@ NOTES = """## Notes
 - Bytecode: an installed package reads its compiled modules. With beltcalc compiled from
   source on every run instead (`--no-bytecode`: an editable checkout under
   `PYTHONDONTWRITEBYTECODE`), each ratio is 0.05 to 0.2 higher.
+- Above the target (1.3x): `simulate roller-table` and the `roller_table` drive file (the
+  same scene). Its calculation is about 150 ms of CPU by itself (*Where it goes*): the run
+  (92,281 bottom steps of 65 us: the chain strands' stiffness sets the step, and every step's
+  switching functions are checked, about 20 ms of products) and its error estimate's second
+  run (62,204 steps). Meeting 1.3x needs about 100 ms less: fewer checked steps (a cheaper
+  reach bound over a block of steps, or the stiff ladder's coarse steps where no strand is
+  near a switch), not more of the micro-savings that brought the conveyor under it.
 - Closest to the target (1.3x): `simulate drive conveyor` (the table above). Its calculation
   is about 50 ms of CPU by itself (see *Where it goes*): two exact runs of 5 s (the run, 24,428
   internal steps, and its error estimate's second computation on another partition, 16,204

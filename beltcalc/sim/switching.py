@@ -585,7 +585,10 @@ class Run:
         self.out = np.empty((n, t.size))
         self.next_out = 0
         self.dt = float(t[1] - t[0]) if t.size > 1 else 0.0
-        self.uniform = t.size > 2 and bool(np.allclose(np.diff(t), self.dt, rtol=1e-12, atol=0))
+        # uniform to the rounding of the times themselves (np.linspace's steps differ by an
+        # ulp of t: 1e-12 of the step at 10,001 samples over 1 s), so samples may be read by
+        # powers of expm(F~ dt)
+        self.uniform = t.size > 2 and bool(np.max(np.abs(np.diff(t) - self.dt)) <= 64 * EPS * max(abs(t[0]), abs(t[-1])))
         self.integrate = integrate or watch is not None
         self.integrals = np.empty((n, t.size)) if self.integrate else None
         ns = len(network.strands)

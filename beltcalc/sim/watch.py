@@ -8,7 +8,9 @@ the run maximises the signal's exact Taylor polynomial around that point: within
 either side, inside the strand-mode piece and the window. The result does not depend on the
 output samples; its accuracy is that of the polynomial (rounding), except where two peaks
 of one signal lie within the polynomial's sampling error of each other (then it is the
-lower one, off by less than that difference).
+lower one, off by less than that difference). On a stiff mode the candidates are its coarse
+step points, 2^K bottom steps apart, so that caveat reaches further: on the sewing drive
+file 2e-8 of a speed's scale and up to 1.3e-5 of a shaft torque's (docs/switching.md).
 
 Signals are rows over the state ``z = [x, g]``: a state, a coupling torque, or a strand
 force (its row while taut, zero while slack).
@@ -16,11 +18,15 @@ force (its row while taut, zero while slack).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from beltcalc.sim.scalar import bounded_minimum
+from beltcalc.sim.switching import _orbit
 
 GRID = 257          # points per refinement interval before the local optimum is polished
+LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many
 
 
 class Watch:
@@ -127,11 +133,27 @@ class Watch:
                     t_prev = self.t_prev[side][w, k]
                     if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
                         starts.insert(0, (self.z_prev[side][w, k], t_prev))
+                    if mode.K and 2 ** (mode.K + 1) <= LADDER_POINTS:
+                        # a stiff mode's step points are 2^K bottom steps apart: its bottom-step
+                        # points over [t0, tz + h] by the bottom step expm(F~ L), the best of
+                        # them, then its polynomial either side, as on a mode without a ladder
+                        z0, t0 = starts[0]
+                        count = int(math.ceil((hi_t - t0) / mode.L * (1 + 1e-12)))
+                        Z = _orbit(mode.P(mode.K), z0, count + 1)
+                        times = t0 + np.arange(count + 1) * mode.L
+                        vals = side * (Z @ self.O[k])
+                        inside = np.flatnonzero((times >= lo_t) & (times <= hi_t))
+                        if inside.size:
+                            j = int(inside[np.argmax(vals[inside])])
+                            values[slot] = max(values[slot], float(vals[j]))
+                            a, b = max(-1.0, (lo_t - times[j]) / mode.L), min(1.0, (hi_t - times[j]) / mode.L)
+                            jobs.append((slot, side * (mode.taylor(Z[j]) @ self.O[k]), a, b))
+                        continue
                     for z0, t0 in starts:
                         a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
                         if mode.K == 0:      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
                             jobs.append((slot, side * (mode.taylor(z0) @ self.O[k]), a, b))
-                        else:
+                        else:                # a ladder too tall to walk step by step: a search on it
                             f = self._ladder(mode, z0, k, side)
                             values[slot] = max(values[slot], self._polish(f, max(a, 0.0), min(b, 1.0)))
         values = np.array(values)

@@ -85,16 +85,19 @@ def test_time_options_and_dt():
 def test_sewing_drive_file_gives_the_sewing_scene_figures():
     # the drive report's extremes come off the exact solution: over its window (18.1 load
     # periods from 0.5 s) they are the scene's exact periodic steady state, mean +- amplitude,
-    # up to what is left of the 17 Hz start-up transient at 0.5 s (about 1e-6 of the speed's
-    # amplitude and 1e-5 of the torque's, as issue 11 measured)
+    # up to what is left of the 17 Hz start-up transient at 0.5 s: measured 3.1e-6 of the
+    # speed's amplitude on its first peaks (+5.8e-6 and -2.9e-6 rad/s on an amplitude of 1.86,
+    # now that the stiff mode is watched at every bottom step; from its coarse step points the
+    # watch had found a later, lower cycle's peak, within 1e-8 of the steady state by chance)
+    # and 1e-5 of the torque's, as issue 11 measured
     scene = json.loads(ok(CliRunner().invoke(cli, ["simulate", "sewing", "--json"])).stdout)
     drive = json.loads(ok(run("sewing", "--json")).stdout)
     steady = scene["steady_state"]
     for node, shaft, torque in (("3", "main_shaft", "23"), ("5", "bottom_shaft", "45")):
         mean, amp = steady[shaft]["speed_mean"]["value"], steady[shaft]["speed_amplitude"]["value"]
-        assert drive["nodes"][node]["speed_max"]["value"] == pytest.approx(mean + amp, rel=1e-8)
-        assert drive["nodes"][node]["speed_min"]["value"] == pytest.approx(mean - amp, rel=1e-8)
-        assert drive["nodes"][node]["speed_amplitude"]["value"] == pytest.approx(amp, rel=2e-6)
+        assert drive["nodes"][node]["speed_max"]["value"] == pytest.approx(mean + amp, abs=1e-5 * amp)
+        assert drive["nodes"][node]["speed_min"]["value"] == pytest.approx(mean - amp, abs=1e-5 * amp)
+        assert drive["nodes"][node]["speed_amplitude"]["value"] == pytest.approx(amp, rel=1e-5)
         assert drive["couplings"][torque]["torque_amplitude"]["value"] == pytest.approx(
             steady[shaft]["torque_amplitude"]["value"], rel=2e-5)
     assert drive["motors"]["M_motor"]["torque_amplitude"]["value"] == pytest.approx(

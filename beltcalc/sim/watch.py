@@ -8,9 +8,10 @@ the run maximises the signal's exact Taylor polynomial around that point: within
 either side, inside the strand-mode piece and the window. The result does not depend on the
 output samples; its accuracy is that of the polynomial (rounding), except where two peaks
 of one signal lie within the polynomial's sampling error of each other (then it is the
-lower one, off by less than that difference). On a stiff mode the candidates are its coarse
-step points, 2^K bottom steps apart, so that caveat reaches further: on the sewing drive
-file 2e-8 of a speed's scale and up to 1.3e-5 of a shaft torque's (docs/switching.md).
+lower one, off by less than that difference). A stiff mode is seen at every bottom step where
+the run's budget allows (:meth:`Watch.walks`); beyond it the candidates are its coarse step
+points, 2^K bottom steps apart, and the caveat reaches further (docs/switching.md: up to
+1.3e-5 of a shaft torque's scale on the sewing drive file).
 
 Signals are rows over the state ``z = [x, g]``: a state, a coupling torque, or a strand
 force (its row while taut, zero while slack).
@@ -27,6 +28,9 @@ from beltcalc.sim.switching import _orbit
 
 GRID = 257          # points per refinement interval before the local optimum is polished
 LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many
+WALK_POINTS = 2e6      # a stiff mode is watched at every bottom step where the run has at most this many ...
+WALK_BYTES = 32e6      # ... and its 2^K powers of expm(F~ L) take at most this much
+WALK_CHUNK = 2e6       # floats of bottom-step points formed at once
 
 
 class Watch:
@@ -58,19 +62,63 @@ class Watch:
         self.piece_start: list[float] = []
 
     def values(self, taut: tuple[bool, ...], Z: np.ndarray) -> np.ndarray:
-        """(rows of Z, signals): the signals at the states Z in the strand pattern ``taut``."""
-        v = Z @ self.O.T
+        """(signals, rows of Z): the signals at the states Z in the strand pattern ``taut``
+        (signal-major: the extremes are reductions along contiguous rows)."""
+        v = self.O @ Z.T
         if self.strand.size and (self.strand >= 0).any():
             on = np.ones(len(self.names), dtype=bool)
             s = self.strand >= 0
             on[s] = np.asarray(taut, dtype=bool)[self.strand[s]]
-            v[:, ~on] = 0.0
+            v[~on] = 0.0
         return v
+
+    def walks(self, mode) -> bool:
+        """Whether a stiff mode is watched at its bottom steps (``expm(F~ L)`` powers from each
+        coarse step point) rather than at its coarse step points, 2^K bottom steps apart,
+        between which a signal that rings (a stiff coupling's torque) may peak unseen: where
+        the run has at most WALK_POINTS bottom steps and the powers fit WALK_BYTES."""
+        m = mode.Ft.shape[0]
+        return bool(mode.K and not mode.sparse and self.run.t_end / mode.L <= WALK_POINTS
+                    and 2 ** mode.K * m * m * 8 <= WALK_BYTES)
 
     def update(self, mode, Z: np.ndarray, times: np.ndarray, piece: int) -> None:
         """Step points Z (rows, balanced) at ``times`` (ascending) of piece number ``piece`` in
         ``mode``: each signal's largest and smallest value per window, with the step point
-        before it."""
+        before it. A stiff mode that :meth:`walks` is seen at every bottom step between."""
+        if Z.shape[0] > 1 and self.walks(mode):
+            for Zb, tb in self._bottom_points(mode, Z, times):
+                self._update(mode, Zb, tb, piece)
+            return
+        self._update(mode, Z, times, piece)
+
+    def _bottom_points(self, mode, Z: np.ndarray, times: np.ndarray):
+        """The bottom-step points of the coarse steps Z[i] -> Z[i+1] (those before Z[i+1]; a
+        short last step keeps its own), in chunks, then Z[-1]: ``P^j Z[i]``, j < 2^K, with
+        ``P = expm(F~ L)`` and its powers kept on the mode."""
+        n, m = 2 ** mode.K, Z.shape[1]
+        powers = getattr(mode, "_walk_powers", None)
+        if powers is None:
+            powers = np.empty((n, m, m))
+            powers[0] = np.eye(m)
+            filled, step = 1, mode.P(mode.K)
+            while filled < n:                       # by doubling: P^(k + filled) = P^filled P^k
+                k = min(filled, n - filled)
+                powers[filled:filled + k] = step @ powers[:k]
+                filled += k
+                step = step @ step
+            # one matrix (m, n m): column block j is (P^j)^T, so Z @ it is every P^j z in one GEMM
+            powers = mode._walk_powers = np.ascontiguousarray(powers.transpose(2, 0, 1).reshape(m, n * m))
+        per = max(1, int(WALK_CHUNK / (n * m)))
+        offsets = np.arange(n) * mode.L
+        for a in range(0, Z.shape[0] - 1, per):
+            b = min(a + per, Z.shape[0] - 1)
+            Zb = (Z[a:b] @ powers).reshape(-1, m)          # rows: (i, j) -> P^j Z[i]
+            tb = (times[a:b, None] + offsets[None, :]).reshape(-1)
+            keep = tb < np.repeat(times[a + 1:b + 1], n)
+            yield (Zb, tb) if keep.all() else (Zb[keep], tb[keep])
+        yield Z[-1:], times[-1:]
+
+    def _update(self, mode, Z: np.ndarray, times: np.ndarray, piece: int) -> None:
         while len(self.piece_start) <= piece:
             self.piece_start.append(float(times[0]))
         key = self._key_index.get(mode.key)
@@ -78,14 +126,14 @@ class Watch:
             key = self._key_index[mode.key] = len(self.keys)
             self.keys.append(mode.key)
         vals = self.values(mode.taut, Z)
-        cols = np.arange(vals.shape[1])
+        cols = np.arange(vals.shape[0])
         for w, start in enumerate(self.windows):
             first = int(np.searchsorted(times, start))         # the rows inside the window: first..
             if first >= times.size:
                 continue
-            inside = vals[first:]
-            for side, at in ((1, inside.argmax(axis=0)), (-1, inside.argmin(axis=0))):
-                top = side * inside[at, cols]
+            inside = vals[:, first:]
+            for side, at in ((1, inside.argmax(axis=1)), (-1, inside.argmin(axis=1))):
+                top = side * inside[cols, at]
                 better = top > self.best[side][w]
                 if not better.any():
                     continue
@@ -125,14 +173,20 @@ class Watch:
                     values.append(best)
                     mode = run.cache.get(*self.keys[self.key[side][w, k]])
                     tz, p = self.t[side][w, k], self.piece[side][w, k]
-                    lo_t = max(start, self.piece_start[p], tz - mode.h)
-                    hi_t = min(run.t_end, ends[p], tz + mode.h)
+                    walked = self.walks(mode)          # its records are bottom-step points
+                    reach = mode.L if walked else mode.h
+                    lo_t = max(start, self.piece_start[p], tz - reach)
+                    hi_t = min(run.t_end, ends[p], tz + reach)
                     if not hi_t > lo_t or (self.strand[k] >= 0 and not mode.taut[self.strand[k]]):
                         continue
                     starts = [(self.z[side][w, k], tz)]
                     t_prev = self.t_prev[side][w, k]
                     if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
                         starts.insert(0, (self.z_prev[side][w, k], t_prev))
+                    if walked:           # the polynomial either side of the best bottom-step point
+                        a, b = max(-1.0, (lo_t - tz) / mode.L), min(1.0, (hi_t - tz) / mode.L)
+                        jobs.append((slot, side * (mode.taylor(self.z[side][w, k]) @ self.O[k]), a, b))
+                        continue
                     if mode.K and 2 ** (mode.K + 1) <= LADDER_POINTS:
                         # a stiff mode's step points are 2^K bottom steps apart: its bottom-step
                         # points over [t0, tz + h] by the bottom step expm(F~ L), the best of

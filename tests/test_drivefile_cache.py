@@ -10,6 +10,7 @@ import beltcalc.units
 from beltcalc.catalogs import builtin_dir
 from beltcalc.sim import drivefile
 from beltcalc.sim.drivefile import DriveFile, DriveFileError
+from test_drivefile import BASE
 
 
 def _counting(monkeypatch):
@@ -44,18 +45,7 @@ def test_the_material_table_is_read_once():
 
 def test_a_refused_text_is_refused_again_on_every_build(tmp_path):
     path = tmp_path / "d.toml"
-    path.write_text(textwrap.dedent("""\
-        [drive]
-        t_end = "1 s"
-
-        [[node]]
-        name = "a"
-        inertia = "1 kg*m^2"
-
-        [[node]]
-        name = "b"
-        inertia = "2 kg*m^2"
-
+    path.write_text(BASE + textwrap.dedent("""
         [[coupling]]
         name = "c"
         between = ["a", "b"]

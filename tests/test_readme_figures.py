@@ -882,29 +882,27 @@ PYTHON["results studies"] = studies_results
 ST = "results studies"
 _ST_COST = ("| per-run cost / solver-only time of one exact run ({solver_wall:.2f} ms wall, {solver_cpu:.2f} ms CPU) | "
             "batched {b2:.1f}x wall, {b3:.1f}x CPU ({b0:.2f} ms, {b1:.2f} ms); one by one {s2:.1f}x, {s3:.1f}x |")
+_COST = ("| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x "
+         "CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |")
+_RSS = "| peak RSS growth from 10^3 runs | time run +3.1 MiB at 10^4; steady state +2.0 MiB at 10^5 | flat |"
+_DASK = "| 2 local Dask workers against 1, once running | 1.95x (0.41 against 0.80 ms a run) | >= 1.8x: met |"
+_MILLION = "| 10^6 runs of this study, extrapolated | 13.5 min in one process, 6.8 min on 2 workers | |"
 BENCHMARK_FIGURES += [
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "0.294", J("solver_wall")),
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "0.291", J("solver_cpu")),
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "2.8", J("batched/2")),
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "2.8", J("batched/3")),
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "0.81", J("batched/0")),
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "0.81", J("batched/1")),
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "9.4", J("single/2")),
-    F(ST, "| per-run cost / solver-only time of one exact run (0.294 ms wall, 0.291 ms CPU) | batched 2.8x wall, 2.8x CPU (0.81 ms, 0.81 ms a run); one by one 9.4x, 9.6x | <= 3x: met |", "9.6", J("single/3")),
-    F(ST, "| peak RSS growth from 10^3 runs | time run +3.1 MiB at 10^4; steady state +2.0 MiB at 10^5 | flat |",
-      "3.1", J("time run 10,000")),
-    F(ST, "| peak RSS growth from 10^3 runs | time run +3.1 MiB at 10^4; steady state +2.0 MiB at 10^5 | flat |",
-      "2.0", J("steady state 100,000")),
-    F(ST, "| 2 local Dask workers against 1, once running | 1.95x (0.41 against 0.80 ms a run) | >= 1.8x: met |",
-      "1.95", J("speedup")),
-    F(ST, "| 2 local Dask workers against 1, once running | 1.95x (0.41 against 0.80 ms a run) | >= 1.8x: met |",
-      "0.41", J("dask local cluster, 2 workers")),
-    F(ST, "| 2 local Dask workers against 1, once running | 1.95x (0.41 against 0.80 ms a run) | >= 1.8x: met |",
-      "0.80", J("dask local cluster, 1 worker")),
-    F(ST, "| 10^6 runs of this study, extrapolated | 13.5 min in one process, 6.8 min on 2 workers | |",
-      "13.5", J("batched, in this process")),
-    F(ST, "| 10^6 runs of this study, extrapolated | 13.5 min in one process, 6.8 min on 2 workers | |",
-      "6.8", J("batched, 2 local workers")),
+    F(ST, _COST, "0.294", J("solver_wall")),
+    F(ST, _COST, "0.291", J("solver_cpu")),
+    F(ST, _COST, "2.8", J("batched/2")),
+    F(ST, _COST, "2.8", J("batched/3")),
+    F(ST, _COST, "0.81", J("batched/0")),
+    F(ST, _COST, "0.81", J("batched/1")),
+    F(ST, _COST, "9.4", J("single/2")),
+    F(ST, _COST, "9.6", J("single/3")),
+    F(ST, _RSS, "3.1", J("time run 10,000")),
+    F(ST, _RSS, "2.0", J("steady state 100,000")),
+    F(ST, _DASK, "1.95", J("speedup")),
+    F(ST, _DASK, "0.41", J("dask local cluster, 2 workers")),
+    F(ST, _DASK, "0.80", J("dask local cluster, 1 worker")),
+    F(ST, _MILLION, "13.5", J("batched, in this process")),
+    F(ST, _MILLION, "6.8", J("batched, 2 local workers")),
 ]
 
 

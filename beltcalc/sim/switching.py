@@ -99,18 +99,24 @@ def terms_for(scale: float) -> int:
     return T
 
 
-def _orbit(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
+def _orbit(step: np.ndarray, start: np.ndarray, count: int, powers: list | None = None) -> np.ndarray:
     """[start, step start, step^2 start, ...] (count rows) by doubling: log2(count) batched
-    products instead of count sequential ones."""
+    products instead of count sequential ones. ``powers``: the list [step, step^2, step^4,
+    ...] a caller keeps across calls with the same step (extended here as far as needed), so
+    a run's many blocks square the step once, not once per block (a size-62 square is as many
+    flops as 60 rows of the orbit)."""
     out = np.empty((count, start.size))
     out[0] = start
-    filled, power = 1, step
+    if powers is None:
+        powers = [step]
+    filled, k = 1, 0
     while filled < count:
+        if k == len(powers):
+            powers.append(powers[-1] @ powers[-1])
         n = min(filled, count - filled)
-        out[filled:filled + n] = out[:n] @ power.T
+        np.matmul(out[:n], powers[k].T, out=out[filled:filled + n])
         filled += n
-        if filled < count:
-            power = power @ power
+        k += 1
     return out
 
 
@@ -157,18 +163,23 @@ class _StepIntegrals:
     """The state's integral from 0 at the step points of one block, ``I[r] = I0 + Q sum_(i<r)
     Z[i]`` (``Q`` the integral of one step's exponential, :meth:`Mode.Q`; None where the rows
     summed are already the steps' integrals, the sparse path's), formed only at the rows
-    asked for (``self[r]``, r an index or an index array): the prefix sums of the states cost
-    one pass, and the product with Q is paid for the few rows read (a block's first sample,
-    a switch, its end) instead of for every step."""
+    asked for (``self[r]``): one row is its own sum (a block's first sample, a switch, its
+    end: the usual reads), an index array the prefix sums of all rows (formed once), and the
+    product with Q is paid for the rows read instead of for every step."""
 
     def __init__(self, I0: np.ndarray, rows: np.ndarray, Q: np.ndarray | None = None):
-        self.I0, self.Q = I0, Q
-        self.S = np.empty((rows.shape[0] + 1, rows.shape[1]))
-        self.S[0] = 0.0
-        np.cumsum(rows, axis=0, out=self.S[1:])
+        self.I0, self.Q, self.rows = I0, Q, rows
+        self.S = None
 
     def __getitem__(self, r) -> np.ndarray:
-        s = self.S[r]
+        if np.ndim(r) == 0:                   # one row (the usual read): its sum alone
+            s = np.ones(r) @ self.rows[:r]   # a BLAS product: numpy's sum down a narrow array is 5x slower
+        else:
+            if self.S is None:
+                self.S = np.empty((self.rows.shape[0] + 1, self.rows.shape[1]))
+                self.S[0] = 0.0
+                np.cumsum(self.rows, axis=0, out=self.S[1:])
+            s = self.S[r]
         return self.I0 + (s if self.Q is None else s @ self.Q.T)
 
 
@@ -187,6 +198,7 @@ class Mode:
         self.events = network.events(taut)
         self.dirs = np.array([e.direction for e in self.events], dtype=float)
         self._P: dict[int, np.ndarray] = {}
+        self._doubling: dict[int, list] = {}
         self._Q: dict[int, np.ndarray] = {}
         self._R = None
         self._T = None
@@ -216,12 +228,14 @@ class Mode:
 
     @property
     def nbytes(self) -> int:
-        """Memory the mode holds once its ladder and rows are built (a fixed figure)."""
+        """Memory the mode holds once its ladder, rows and squares are built (a fixed figure:
+        the squares at their most, 12 of the step for MAX_BLOCK and 15 each of the sample
+        steps for 2^15 samples in one block, the integral's twice the size)."""
         if self.sparse:
             return 12 * (self.terms * self.Ft.nnz + 2 * self.H.nnz)
         m, terms = self.Ft.shape[0], self.terms
         taylor = terms * m * m if terms * m * m * 8 <= TAYLOR_BYTES else 0
-        return 8 * (m * m * (3 + self.K) + terms * self.H.size + taylor)
+        return 8 * (m * m * (3 + self.K + 12 + 15 + 4 * 15) + terms * self.H.size + taylor)
 
     def taylor(self, Z: np.ndarray) -> np.ndarray:
         """V[j] = (F~ L)^j Z / j! for j < terms; Z is one state (size,) or rows (count, size).
@@ -251,7 +265,7 @@ class Mode:
         switch only to be thrown away). ``integrate`` (sparse): also J, the integral of z over
         each step (rows; None otherwise: a dense run integrates by :class:`_StepIntegrals`)."""
         if not self.sparse:
-            return _orbit(self.P(0), z, count + 1), None, None
+            return _orbit(self.P(0), z, count + 1, self.doubling()), None, None
         Z = np.empty((count + 1, z.size))
         Z[0] = z
         C = np.empty((count, len(self.events), self.terms))
@@ -304,14 +318,22 @@ class Mode:
                 self._P[level] = M
         return self._P[k]
 
-    def step(self, dt: float) -> np.ndarray:
-        """expm(F~ dt) (dense), for reading many uniformly spaced samples off one piece."""
+    def doubling(self, k: int = 0) -> list:
+        """[P_k, P_k^2, P_k^4, ...] as far as :func:`_orbit` has needed them: the squares a
+        run's blocks share."""
+        if k not in self._doubling:
+            self._doubling[k] = [self.P(k)]
+        return self._doubling[k]
+
+    def step(self, dt: float) -> list:
+        """[expm(F~ dt), its square, ...] (dense; :func:`_orbit`'s powers, as far as needed),
+        for reading many uniformly spaced samples off one piece."""
         if getattr(self, "_step", (None,))[0] != dt:
-            self._step = (dt, expm(self.Ft * dt))
+            self._step = (dt, [expm(self.Ft * dt)])
         return self._step[1]
 
-    def step_integral(self, dt: float) -> np.ndarray:
-        """``G = [[S, 0], [Phi, I]]`` with ``S = expm(F~ dt)`` and ``Phi = int_0^dt expm(F~ tau)
+    def step_integral(self, dt: float) -> list:
+        """[G, G^2, ...] (:func:`_orbit`'s powers) with ``G = [[S, 0], [Phi, I]]`` with ``S = expm(F~ dt)`` and ``Phi = int_0^dt expm(F~ tau)
         d tau`` (dense): ``[z; I] -> [S z; I + Phi z]`` steps a state and its integral from 0
         one sample on, for reading many uniformly spaced samples and the integrals the
         window's means come from off one piece. Both blocks from one exponential,
@@ -327,7 +349,7 @@ class Mode:
             G[:m, :m] = E[:m, :m]
             G[m:, :m] = E[:m, m:]
             G[m:, m:] = np.eye(m)
-            self._step_integral = (dt, G)
+            self._step_integral = (dt, [G])
         return self._step_integral[1]
 
     def Q(self, k: int) -> np.ndarray:
@@ -656,12 +678,14 @@ class Run:
         if many and not self.integrate:
             # many samples in one piece: the first off its step, the rest by expm(F~ dt) powers
             # (one m^2 product per sample instead of a Taylor sum of TERMS)
-            Z = _orbit(mode.step(self.dt), mode.at(base[k[0]], tau[0]), idx.size)
+            steps = mode.step(self.dt)
+            Z = _orbit(steps[0], mode.at(base[k[0]], tau[0]), idx.size, steps)
         elif self.integrate:
             if many:
                 # the same with the integrals: [z; I] stepped by [[S, 0], [Phi, I]]
                 z0, I0 = mode.at(base[k[0]], tau[0], integrate=True)
-                W = _orbit(mode.step_integral(self.dt), np.concatenate([z0, I0 + I_base[k[0]]]), idx.size)
+                steps = mode.step_integral(self.dt)
+                W = _orbit(steps[0], np.concatenate([z0, I0 + I_base[k[0]]]), idx.size, steps)
                 Z, I = W[:, :z0.size], W[:, z0.size:]
             else:
                 Z, I = mode.at(base[k], tau, integrate=True)
@@ -831,7 +855,7 @@ class Run:
                 found = None if hit is None else (hit[0], hit[1] * h, hit[2])
                 self.steps += cnt
             else:
-                Z = _orbit(mode.P(0), z, cnt + 1)
+                Z = _orbit(mode.P(0), z, cnt + 1, mode.doubling())
                 found = None
                 flags = self._hermite(mode, Z[:-1], Z[1:], h)
                 if first:

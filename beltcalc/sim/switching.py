@@ -10,12 +10,17 @@ solution mode by mode:
   (exact in floating point), ``F~ = S^-1 F S``: positions in rad and speeds in rad/s differ
   by the fastest angular frequency, and without balancing ``||F h||`` is 10^4 times
   larger than the dynamics need.
-* **Steps from the dynamics.** The bottom step ``L = THETA / ||F~||_1`` makes the Taylor
-  series of the exact solution over one step, ``z(t + s L) = sum_j s^j V_j`` with
-  ``V_j = (F~ L)^j z / j!``, exact to rounding with ``TERMS`` terms (s in [0, 1]). Every
-  switching function ``r . z`` is then a polynomial of degree ``TERMS - 1`` in s on the
-  step; its coefficients come from the rows ``R_j = r (F~ L)^j / j!``, precomputed per
-  mode. The output grid plays no part: samples are read off the exact solution afterwards,
+* **Steps from the dynamics.** The bottom step ``L = min(THETA / ||F~||_1, RHO / rho)``
+  (rho: the spectral radius) makes the Taylor series of the exact solution over one step,
+  ``z(t + s L) = sum_j s^j V_j`` with ``V_j = (F~ L)^j z / j!``, exact to rounding with
+  :func:`terms_for` ``(||F~ L||)`` terms, at most 49 (s in [0, 1]). THETA bounds the
+  truncation (the terms needed); RHO bounds how far the terms grow before they shrink
+  (about ``exp(rho L)``), which is what the rounding of a value read off the series grows
+  with: where the fastest motion is well below ``||F~||`` (a chain whose strand stiffness
+  sets the norm) the step is THETA's, twice what ``||F~ L|| = 4`` gave; where a stiff
+  coupling's own frequency is near ``||F~||`` it is RHO's, as before. Every switching
+  function ``r . z`` is then a polynomial in s on the step; its coefficients come from the
+  rows ``R_j = r (F~ L)^j / j!``, precomputed per mode. The output grid plays no part: samples are read off the exact solution afterwards,
   from the step that holds them.
 * **Stiff modes** (``||F~||`` far above the fastest oscillation, e.g. a coupling 10^6 times
   stiffer than the rest): the coarse step is ``h = 2^K L`` (at most one radian of the
@@ -67,11 +72,12 @@ def _sparse_kernel():
     return _csr_matvec
 
 EPS = np.finfo(float).eps
-THETA = 4.0          # ||F~ L||_1 on the bottom step
-TERMS = 34           # THETA^34 / 34! = 1e-18 < 2^-53: the Taylor series is exact to rounding
+THETA = 8.0          # ||F~ L||_1 on the bottom step at most ...
+RHO = 4.0            # ... and rho(F~) L at most (rho: the spectral radius): the terms grow at most ~exp(RHO)
+TERMS = 34           # terms at ||F~ L||_1 <= 4: 4^34 / 34! = 1e-18 < 2^-53, the Taylor series is exact to rounding
 ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |r_i z_i|
 STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
-TAYLOR_BYTES = 2e6  # a dense mode keeps its Taylor matrices (TERMS x size^2) up to this size (size <= 85)
+TAYLOR_BYTES = 2e6  # a dense mode keeps its Taylor matrices (TERMS x size^2) up to this size (size <= 71)
 MAX_BLOCK = 2048     # steps propagated ahead at once (doubled from FIRST_BLOCK while nothing happens)
 FIRST_BLOCK = 64     # steps of a run's first block; later, half the previous stretch's (Run.advance) ...
 FIRST_FLOPS = 2e6    # ... and at most this many state-size^2 products (size 19: 5540 steps, 245: 33)
@@ -81,22 +87,27 @@ SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
 
 
-def terms_for(scale: float) -> int:
-    """Taylor terms of a bottom step ``scale`` times the standard one (``||F~ L||_1 = scale
-    THETA``): TERMS up to the standard step; beyond it the fewest T whose remainder bound
-    ``(scale THETA)^T / T!`` is at most the standard one's, ``THETA^TERMS / TERMS!`` (1e-18).
-    The error estimate's second run takes longer steps (:data:`beltcalc.sim.core.ESTIMATE_STEP`:
-    1.5, 42 terms): fewer steps, the same truncation, more rounding (the sum of the terms'
-    magnitudes grows as exp(scale THETA)), which tends to make the estimate larger, not smaller."""
-    theta = scale * THETA
-    if theta <= THETA:
+def terms_for(theta: float) -> int:
+    """Taylor terms of a bottom step with ``||F~ L||_1 = theta``: TERMS up to 4; beyond it the
+    fewest T whose remainder bound ``theta^T / T!`` is at most ``4^TERMS / TERMS!`` (1e-18):
+    49 at THETA, 62 at 1.5 THETA (the error estimate's second run,
+    :data:`beltcalc.sim.core.ESTIMATE_STEP`: fewer steps, the same truncation, more rounding,
+    which tends to make the estimate larger, not smaller)."""
+    if theta <= 4.0:
         return TERMS
-    bound = THETA ** TERMS / math.factorial(TERMS)
+    bound = 4.0 ** TERMS / math.factorial(TERMS)
     T, term = 1, theta
     while term > bound or T < TERMS:
         T += 1
         term *= theta / T
     return T
+
+
+def step_length(norm: float, rho: float) -> float:
+    """The standard bottom step ``min(THETA / ||F~||_1, RHO / rho)`` (``rho`` the spectral
+    radius, 0 where unknown: then ``RHO / ||F~||_1``, which rho never exceeds)."""
+    norm = max(norm, 1e-300)
+    return min(THETA / norm, RHO / (rho if rho > 0 else norm))
 
 
 def _orbit(step: np.ndarray, start: np.ndarray, count: int, powers: list | None = None) -> np.ndarray:
@@ -191,8 +202,8 @@ class Mode:
     strands' stamps in O(nonzeros), every bottom step taken by its Taylor sum of sparse
     products; nothing of size states^2 is formed, so a new strand pattern costs little."""
 
-    def __init__(self, network, taut: tuple[bool, ...], t_mid: float, S: np.ndarray, omega: float, scale: float,
-                 parts: "_SparseParts | None" = None):
+    def __init__(self, network, taut: tuple[bool, ...], t_mid: float, S: np.ndarray, omega: float, rho: float,
+                 scale: float, parts: "_SparseParts | None" = None):
         self.taut = taut
         self.sparse = parts is not None
         self.events = network.events(taut)
@@ -203,11 +214,11 @@ class Mode:
         self._R = None
         self._T = None
         self._B2 = None
-        self.terms = terms_for(scale)
         if self.sparse:
             self.Ft = parts.matrix(taut, t_mid)
             norm = float(abs(self.Ft).sum(axis=0).max())
-            self.L = scale * THETA / max(norm, 1e-300)
+            self.L = scale * step_length(norm, rho)
+            self.terms = terms_for(norm * self.L)
             self.K, self.h = 0, self.L
             self.H = parts.rows(taut)
             self.absH = abs(self.H)
@@ -218,7 +229,8 @@ class Mode:
         F = augmented_matrix(network, taut, t_mid)
         self.Ft = F / S[:, None] * S[None, :]
         norm = float(np.abs(self.Ft).sum(axis=0).max())
-        self.L = scale * THETA / max(norm, 1e-300)
+        self.L = scale * step_length(norm, rho)
+        self.terms = terms_for(norm * self.L)
         self.K = 0
         if omega > 0 and norm > STIFF * omega:
             self.K = max(0, int(math.floor(math.log2(1.0 / (omega * self.L)))))
@@ -482,8 +494,8 @@ class _SparseParts:
 class _Cache:
     """Modes by (pattern, time piece), least recently used dropped beyond CACHE_BYTES."""
 
-    def __init__(self, network, S, omega, scale, parts=None):
-        self.network, self.S, self.omega, self.scale, self.parts = network, S, omega, scale, parts
+    def __init__(self, network, S, omega, rho, scale, parts=None):
+        self.network, self.S, self.omega, self.rho, self.scale, self.parts = network, S, omega, rho, scale, parts
         self.modes: OrderedDict = OrderedDict()
         self.built = 0
         self.bytes = 0
@@ -492,7 +504,7 @@ class _Cache:
         key = (taut, seg)
         mode = self.modes.get(key)
         if mode is None:
-            mode = self.modes[key] = Mode(self.network, taut, t_mid, self.S, self.omega, self.scale, self.parts)
+            mode = self.modes[key] = Mode(self.network, taut, t_mid, self.S, self.omega, self.rho, self.scale, self.parts)
             mode.key = (taut, seg, t_mid)
             self.built += 1
             self.bytes += mode.nbytes
@@ -598,11 +610,17 @@ class Run:
         n = network.size
         parts = None
         if F0.shape[0] >= SPARSE_SIZE and network.strands:
-            parts, omega = _SparseParts(network, self.S), 0.0     # no stiff ladder on the sparse path
+            # no stiff ladder on the sparse path, and the step from the norm alone
+            parts, omega, rho = _SparseParts(network, self.S), 0.0, 0.0
         else:
+            # the fastest oscillation (stiff ladders) and the spectral radius (the step) of
+            # the all-taut matrix: a slack strand takes a spring and a damper away
+            # (the generators' block is autonomous: its eigenvalues are the inputs' own)
             lam = np.linalg.eigvals(F0[:n, :n]) if n else np.zeros(0)
             omega = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
-        self.cache = _Cache(network, self.S, omega, scale, parts)
+            lam = np.concatenate([lam, np.linalg.eigvals(F0[n:, n:])]) if F0.shape[0] > n else lam
+            rho = float(np.max(np.abs(lam))) if lam.size else 0.0
+        self.cache = _Cache(network, self.S, omega, rho, scale, parts)
         self.m = n
         self.out = np.empty((n, t.size))
         self.next_out = 0

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from beltcalc.sim.linalg import expm
 from beltcalc.sim.scalar import bounded_minimum
 from beltcalc.sim.switching import _orbit
 
@@ -60,17 +61,22 @@ class Watch:
         self._key_index: dict[tuple, int] = {}
         self.piece = {side: np.zeros((nw, k), dtype=np.int64) for side in (1, -1)}
         self.piece_start: list[float] = []
+        self._half: dict[tuple, np.ndarray] = {}
 
     def values(self, taut: tuple[bool, ...], Z: np.ndarray) -> np.ndarray:
         """(signals, rows of Z): the signals at the states Z in the strand pattern ``taut``
         (signal-major: the extremes are reductions along contiguous rows)."""
         v = self.O @ Z.T
         if self.strand.size and (self.strand >= 0).any():
-            on = np.ones(len(self.names), dtype=bool)
-            s = self.strand >= 0
-            on[s] = np.asarray(taut, dtype=bool)[self.strand[s]]
-            v[~on] = 0.0
+            v[self._slack(taut)] = 0.0
         return v
+
+    def _slack(self, taut: tuple[bool, ...]) -> np.ndarray:
+        """Which signals are the force of a strand slack in ``taut`` (zero there)."""
+        on = np.ones(len(self.names), dtype=bool)
+        s = self.strand >= 0
+        on[s] = np.asarray(taut, dtype=bool)[self.strand[s]]
+        return ~on
 
     def walks(self, mode) -> bool:
         """Whether a stiff mode is watched at its bottom steps (``expm(F~ L)`` powers from each
@@ -115,8 +121,26 @@ class Watch:
             Zb = (Z[a:b] @ powers).reshape(-1, m)          # rows: (i, j) -> P^j Z[i]
             tb = (times[a:b, None] + offsets[None, :]).reshape(-1)
             keep = tb < np.repeat(times[a + 1:b + 1], n)
-            yield (Zb, tb) if keep.all() else (Zb[keep], tb[keep])
-        yield Z[-1:], times[-1:]
+            if not keep.all():
+                Zb, tb = Zb[keep], tb[keep]
+            # each chunk ends on the next one's first point: no step is left between chunks
+            yield np.vstack([Zb, Z[b]]), np.append(tb, times[b])
+
+    def _halves(self, mode, Z: np.ndarray, times: np.ndarray, spacing: float) -> np.ndarray:
+        """(signals, rows - 1): the signals half way through each step Z[i] -> Z[i+1]; a full
+        step (``spacing`` long) by ``O expm(F~ spacing / 2)`` (one product of the signals'
+        rows, kept per mode and spacing), a shorter one by the mode's own reading."""
+        key = (mode.key, spacing)
+        Oh = self._half.get(key)
+        if Oh is None:
+            Oh = self._half[key] = self.O @ expm(mode.Ft * (spacing / 2))
+        mids = Oh @ Z[:-1].T
+        dt = np.diff(times)
+        short = np.flatnonzero(dt < spacing * (1 - 1e-9))     # (step times round to 1e-11 of a step)
+        if short.size:
+            zs = mode.at(Z[short], dt[short] / 2)
+            mids[:, short] = self.O @ zs.T
+        return mids
 
     def _update(self, mode, Z: np.ndarray, times: np.ndarray, piece: int) -> None:
         while len(self.piece_start) <= piece:
@@ -126,10 +150,24 @@ class Watch:
             key = self._key_index[mode.key] = len(self.keys)
             self.keys.append(mode.key)
         vals = self.values(mode.taut, Z)
+        if Z.shape[0] > 1:
+            # every step's midpoint too: a signal is seen every half step, so a peak between
+            # step points is never more than a quarter step from a point seen
+            spacing = mode.L if mode.K == 0 or self.walks(mode) else mode.h
+            mids = self._halves(mode, Z, times, spacing)
+            if self.strand.size and (self.strand >= 0).any():
+                mids[self._slack(mode.taut)] = 0.0
+            both = np.empty((vals.shape[0], 2 * Z.shape[0] - 1))
+            both[:, 0::2], both[:, 1::2] = vals, mids
+            tb = np.empty(2 * Z.shape[0] - 1)
+            tb[0::2], tb[1::2] = times, 0.5 * (times[:-1] + times[1:])
+            vals, times_seen, half = both, tb, 2
+        else:
+            times_seen, half = times, 1
         cols = np.arange(vals.shape[0])
         for w, start in enumerate(self.windows):
-            first = int(np.searchsorted(times, start))         # the rows inside the window: first..
-            if first >= times.size:
+            first = int(np.searchsorted(times_seen, start))    # the points inside the window: first..
+            if first >= times_seen.size:
                 continue
             inside = vals[:, first:]
             for side, at in ((1, inside.argmax(axis=1)), (-1, inside.argmin(axis=1))):
@@ -137,7 +175,8 @@ class Watch:
                 better = top > self.best[side][w]
                 if not better.any():
                     continue
-                ks, rows = np.nonzero(better)[0], first + at[better]
+                # a midpoint is recorded by the step point before it (its polynomial reaches it)
+                ks, rows = np.nonzero(better)[0], (first + at[better]) // half
                 self.best[side][w, ks] = top[ks]
                 self.z[side][w, ks] = Z[rows]
                 self.t[side][w, ks] = times[rows]

@@ -82,6 +82,7 @@ MAX_BLOCK = 2048     # steps propagated ahead at once (doubled from FIRST_BLOCK 
 FIRST_BLOCK = 64     # steps of a run's first block; later, half the previous stretch's (Run.advance) ...
 FIRST_FLOPS = 2e6    # ... and at most this many state-size^2 products (size 19: 5540 steps, 245: 33)
 CACHE_BYTES = 400e6  # modes kept (least recently used first out)
+NEAR_GROUP = 8       # rows of a block sharing one second-order reach bound (Mode.near)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
@@ -381,29 +382,56 @@ class Mode:
                 self._Q[level] = Q
         return self._Q[k]
 
-    def near(self, Z: np.ndarray, tol: np.ndarray) -> np.ndarray:
-        """(events, rows of Z): whether each switching function may come within reach of zero
-        on the bottom step from each row (dense). A rigorous cheap bound of the polynomial's
+    def levels(self, Z: np.ndarray) -> np.ndarray:
+        """(events, rows of Z): the rounding level of each switching function at each row,
+        ``ROUND |H| |z|`` (a value within it of zero is on the surface)."""
+        return ROUND * (self.absH @ np.abs(Z).T) + 1e-300
+
+    def near(self, Z: np.ndarray) -> np.ndarray:
+        """(events, rows of Z): whether each switching function may come within its rounding
+        level (:meth:`levels`) of zero on the bottom step from each row, without the whole
+        step staying within it (a graze) (dense). A rigorous cheap bound of the polynomial's
         reach ``sum_(j>=1) |c_j|``: the rate ``c_1 = H (F~ L) z`` exactly, the rest by
         ``|H| |F~ L|^(j-2) |(F~ L)^2 z| / j!``. Bounding from the second derivative keeps the
         cancellation of rigid rotation (angles of hundreds of radians) that an absolute bound
         on z or z' loses: measured within 1 % of the exact reach on the roller table, where
-        bounding from z' is 500 times too wide."""
+        bounding from z' is 500 times too wide.
+
+        The rows of Z are consecutive bottom steps, ``z_(i+r) = P^r z_i`` (``P = expm(F~ L)``,
+        which commutes with ``F~``), so ``|(F~ L)^2 z_(i+r)| <= M |(F~ L)^2 z_i|`` with ``M``
+        the largest ``|P^r|`` over r < NEAR_GROUP, entry by entry: the second-order part is
+        formed on every NEAR_GROUP-th row only (the first order and the value, the bound's
+        tight parts, on every row), at most a few times wider on a part that is itself small.
+        The rounding levels the same way, ``|H| |z_(i+r)| <= |H| M |z_i|``: the exact level is
+        formed only on the rows that bound does not clear."""
         if self._B2 is None:
             A, H = np.abs(self.Ft * self.L), self.absH
             B, M, fact = np.zeros_like(H), H, 2.0
             for j in range(2, self.terms):
                 B += M / fact
                 M, fact = M @ A, fact * (j + 1)
-            self._B2 = np.ascontiguousarray(B.T)
+            P, power = self.P(self.K), np.eye(A.shape[0])
+            M = np.eye(A.shape[0])
+            for _ in range(1, NEAR_GROUP):
+                power = power @ P
+                np.maximum(M, np.abs(power), out=M)
+            self._B2 = np.ascontiguousarray(M.T @ B.T)
+            self._HM = np.ascontiguousarray((ROUND * (self.absH @ M)).T)
             A = self.Ft * self.L
-            self._W = np.ascontiguousarray(np.vstack([self.H @ A, self.H, A @ A]).T)   # one product for all three
-        E = self.H.shape[0]
-        P = np.abs(Z @ self._W)                        # (rows, E + E + size): |H A z|, |H z|, |A^2 z|
-        bound = P[:, :E] + P[:, 2 * E:] @ self._B2
-        C0 = P[:, E:2 * E]
-        tol = tol.T
-        return ((C0 <= bound + tol) & (bound + C0 > tol)).T
+            self._W = np.ascontiguousarray(np.vstack([self.H @ A, self.H]).T)    # one product for both
+            self._A2 = np.ascontiguousarray((A @ A).T)
+        E, k = self.H.shape[0], NEAR_GROUP
+        P = np.abs(Z @ self._W)                        # (rows, E + E): |H A z|, |H z|
+        second = np.abs(Z[::k] @ self._A2) @ self._B2  # (rows / k, E): M |A^2 z| through the series
+        bound = P[:, :E] + np.repeat(second, k, axis=0)[:Z.shape[0]]
+        C0 = P[:, E:]
+        high = np.repeat(np.abs(Z[::k]) @ self._HM, k, axis=0)[:Z.shape[0]] + 1e-300
+        rows = np.flatnonzero((C0 <= bound + high).any(axis=1))
+        out = np.zeros((E, Z.shape[0]), dtype=bool)
+        if rows.size:
+            tol, b, c = self.levels(Z[rows]).T, bound[rows], C0[rows]
+            out[:, rows] = ((c <= b + tol) & (b + c > tol)).T
+        return out
 
     @property
     def R(self) -> np.ndarray:
@@ -515,6 +543,39 @@ class _Cache:
 
 
 # --- the polynomial on one bottom step ---------------------------------------------------------
+_BERNSTEIN: dict[int, np.ndarray] = {}
+
+
+def _bernstein(terms: int) -> np.ndarray:
+    """The matrix taking a polynomial's coefficients on [0, 1] (``terms`` of them, lowest
+    first) to its Bernstein coefficients, ``b_i = sum_(j<=i) C(i, j) / C(n, j) c_j`` (n the
+    degree; Farouki & Rajan, Comput. Aided Geom. Des. 5 (1988) 1-26, eq. 11): positive
+    weights, so each b_i rounds within a few eps of ``sum |c_j|``."""
+    W = _BERNSTEIN.get(terms)
+    if W is None:
+        n = terms - 1
+        W = np.zeros((terms, terms))
+        for i in range(terms):
+            for j in range(i + 1):
+                W[i, j] = math.comb(i, j) / math.comb(n, j)
+        W = _BERNSTEIN[terms] = W
+    return W
+
+
+def _may_fire(pc: np.ndarray, tol: np.ndarray) -> np.ndarray:
+    """(events, columns): whether each firing-side polynomial ``pc[:, e, q]`` (terms first,
+    ``d p`` of :func:`_first_fire`) can fire on [0, 1] at all, by the convex hull of its
+    Bernstein coefficients (every value of p on [0, 1] lies between their least and largest):
+    not if it never rises above 0, nor if it starts on the firing side beyond ``tol`` and
+    never comes back to 0. Every step this rules out is one :func:`_first_fire` would have
+    refused after sampling and refining it (a strand at rest on its surface, its values
+    exactly 0 at the step's start: hundreds of refinements each)."""
+    T, E, Q = pc.shape
+    B = (_bernstein(T) @ pc.reshape(T, E * Q)).reshape(T, E, Q)
+    stays_up = (pc[0] > tol) & (B.min(axis=0) > 0)
+    return (B.max(axis=0) > 0) & ~stays_up
+
+
 def _first_fire(c: np.ndarray, d: float, tol: float, from_start: bool, limit: float = 1.0) -> float | None:
     """The first s in [0, limit] where d * p(s) (p: coefficients ``c``, lowest first) crosses
     from <= 0 to > 0 and goes on beyond ``tol`` (an excursion that stays within ``tol`` is a
@@ -782,18 +843,20 @@ class Run:
         if not mode.events:
             return None
         count = Z.shape[0] - 1
-        tol = ROUND * (mode.absH @ np.abs(Z[:count]).T) + 1e-300            # (E, count)
-        steps = np.arange(count)
         if C is None:                 # dense: bound first, the full polynomial only where needed
-            steps = np.nonzero(mode.near(Z[:count], tol).any(axis=0))[0]
+            steps = np.nonzero(mode.near(Z[:count]).any(axis=0))[0]
             if steps.size == 0:
                 return None
             C = mode.coeffs(Z[steps])
         else:
+            steps = np.arange(count)
             C = C[:, :, :count]
-        tol = tol[:, steps]
+        tol = mode.levels(Z[steps])                                          # (E, steps)
         reach = np.abs(C[1:]).sum(axis=0)
         cand = (np.abs(C[0]) <= reach + tol) & (reach + np.abs(C[0]) > tol)
+        cols = np.nonzero(cand.any(axis=0))[0]
+        if cols.size:
+            cand[:, cols] &= _may_fire(C[:, :, cols] * mode.dirs[None, :, None], tol[:, cols])
         for q in np.nonzero(cand.any(axis=0))[0]:      # q: column of C, steps[q]: the step
             i, best = int(steps[q]), None
             for e in np.nonzero(cand[:, q])[0]:

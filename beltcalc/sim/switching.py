@@ -415,22 +415,26 @@ class Mode:
             for _ in range(1, NEAR_GROUP):
                 power = power @ P
                 np.maximum(M, np.abs(power), out=M)
-            self._B2 = np.ascontiguousarray(M.T @ B.T)
-            self._HM = np.ascontiguousarray((ROUND * (self.absH @ M)).T)
+            self._B2 = np.ascontiguousarray(B @ M)
+            self._HM = ROUND * (self.absH @ M)
             A = self.Ft * self.L
-            self._W = np.ascontiguousarray(np.vstack([self.H @ A, self.H]).T)    # one product for both
-            self._A2 = np.ascontiguousarray((A @ A).T)
-        E, k = self.H.shape[0], NEAR_GROUP
-        P = np.abs(Z @ self._W)                        # (rows, E + E): |H A z|, |H z|
-        second = np.abs(Z[::k] @ self._A2) @ self._B2  # (rows / k, E): M |A^2 z| through the series
-        bound = P[:, :E] + np.repeat(second, k, axis=0)[:Z.shape[0]]
-        C0 = P[:, E:]
-        high = np.repeat(np.abs(Z[::k]) @ self._HM, k, axis=0)[:Z.shape[0]] + 1e-300
-        rows = np.flatnonzero((C0 <= bound + high).any(axis=1))
-        out = np.zeros((E, Z.shape[0]), dtype=bool)
+            self._W = np.vstack([self.H @ A, self.H])    # one product for both
+            self._A2 = A @ A
+        # events along the first axis: the reductions over events run along whole rows
+        E, k, n = self.H.shape[0], NEAR_GROUP, Z.shape[0]
+        P = np.abs(self._W @ Z.T)                      # (E + E, rows): |H A z|, |H z|
+        second = self._B2 @ np.abs(self._A2 @ Z[::k].T)         # (E, rows / k): M |A^2 z| through the series
+        bound = P[:E]
+        bound += np.repeat(second, k, axis=1)[:, :n]
+        C0 = P[E:]
+        high = np.repeat(self._HM @ np.abs(Z[::k]).T, k, axis=1)[:, :n]
+        high += bound
+        high += 1e-300
+        rows = np.flatnonzero((C0 <= high).any(axis=0))
+        out = np.zeros((E, n), dtype=bool)
         if rows.size:
-            tol, b, c = self.levels(Z[rows]).T, bound[rows], C0[rows]
-            out[:, rows] = ((c <= b + tol) & (b + c > tol)).T
+            tol, b, c = self.levels(Z[rows]), bound[:, rows], C0[:, rows]
+            out[:, rows] = (c <= b + tol) & (b + c > tol)
         return out
 
     @property

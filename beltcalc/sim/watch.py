@@ -139,7 +139,7 @@ class Watch:
         if Oh is None:
             Oh = self._half[key] = self.O @ expm(mode.Ft * (spacing / 2))
         mids = Oh @ Z[:-1].T
-        dt = np.diff(times)
+        dt = times[1:] - times[:-1]
         short = np.flatnonzero(dt < spacing * (1 - 1e-9))     # (step times round to 1e-11 of a step)
         if short.size:
             zs = mode.at(Z[short], dt[short] / 2)
@@ -169,12 +169,15 @@ class Watch:
         else:
             times_seen, half = times, 1
         cols = np.arange(vals.shape[0])
+        found: dict[int, tuple] = {}        # windows that start before the block share their search
         for w, start in enumerate(self.windows):
             first = int(np.searchsorted(times_seen, start))    # the points inside the window: first..
             if first >= times_seen.size:
                 continue
             inside = vals[:, first:]
-            for side, at in ((1, inside.argmax(axis=1)), (-1, inside.argmin(axis=1))):
+            if first not in found:
+                found[first] = ((1, inside.argmax(axis=1)), (-1, inside.argmin(axis=1)))
+            for side, at in found[first]:
                 top = side * inside[cols, at]
                 better = top > self.best[side][w]
                 if not better.any():

@@ -148,9 +148,9 @@ def test_sampled_derivative_by_stamps_equals_the_per_pattern_matrices():
 
 
 def test_sparse_path_without_scipys_private_kernel(monkeypatch):
-    # the CSR kernel is scipy's private csr_matvec; without it the public product runs, same result
+    # the CSR kernels are scipy's private csr_matvec(s); without them the public product runs, same result
     seq = bounce_sequence()
     net, x0 = bouncing_net()
-    monkeypatch.setattr(switching, "_csr_matvec", None)
+    monkeypatch.setattr(switching, "_kernels", None)
     r = run(net, np.linspace(0.0, 1.0, 201), x0, True)
     assert_allclose([s[0] for s in r.switches], [s for s, _ in seq["switches"]], rtol=0, atol=1e-9)

@@ -106,3 +106,30 @@ def test_the_console_script_collects_garbage_while_the_command_runs():
             "print('RESULT', code, seen, gc.isenabled(), file=sys.stderr)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stderr.split("RESULT", 1)[1].split() == ["0", "[True]", "True"]
+
+
+def test_the_console_script_lets_malloc_keep_freed_memory(monkeypatch):
+    # once a command is loaded: glibc's mmap threshold 32 MB and trim threshold 256 MB (block
+    # temporaries are reused instead of faulted in again); a user's MALLOC_* setting wins
+    import ctypes
+
+    from beltcalc.cli import main
+
+    calls = []
+
+    class Libc:
+        def mallopt(self, option, value):
+            calls.append((option, value))
+            return 1
+
+    monkeypatch.setattr(ctypes, "CDLL", lambda name: Libc())
+    for env, want in (({}, [(-3, 32 << 20), (-1, 256 << 20)]), ({"MALLOC_ARENA_MAX": "2"}, [])):
+        calls.clear()
+        monkeypatch.setattr(main, "_keep_freed_memory_done", False)
+        for key in [k for k in main.os.environ if k.startswith("MALLOC_")]:
+            monkeypatch.delenv(key)
+        for key, value in env.items():
+            monkeypatch.setenv(key, value)
+        main._keep_freed_memory()
+        main._keep_freed_memory()                    # once per process
+        assert calls == want

@@ -33,7 +33,8 @@ def reference_max(c: np.ndarray, a: float, b: float) -> float:
 
 def taylor_like(rng: np.random.Generator, count: int) -> np.ndarray:
     """Coefficients of the kind the watch polishes: a signal's Taylor polynomial over one bottom
-    step, c_j ~ THETA^j / j! (THETA = 4) with random signs, plus a large constant part."""
+    step, c_j ~ 4^j / j! (||F~ L|| = 4; the terms shrink from j = 4 on) with random signs, plus a
+    large constant part."""
     j = np.arange(TERMS)
     size = 4.0 ** j / np.array([float(math.factorial(int(k))) for k in j])
     C = rng.standard_normal((count, TERMS)) * size

@@ -69,7 +69,7 @@ class SolverConfig:
 FALLBACK_SECONDS = 30.0     # computing time auto's Radau fallback may take
 RADAU_FALLBACK_WORK = 2e6   # strand events x states^2 above which auto's Radau fallback is not tried
 ESTIMATE_STEP = 1.5         # the error estimate's piecewise second run: bottom steps 1.5 times as long
-                            # (42 Taylor terms, switching.terms_for): another partition, fewer steps
+                            # (switching.terms_for: up to 62 Taylor terms): another partition, fewer steps
 
 
 class _Budget(Exception):

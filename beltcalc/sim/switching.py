@@ -89,7 +89,8 @@ FIRST_BLOCK = 64     # steps of a run's first block; later, half the previous st
 FIRST_FLOPS = 2e6    # ... and at most this many state-size^2 products (size 19: 5540 steps, 245: 33)
 CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 RADIUS_MARGIN = 1.25  # the sparse path's power-step radius, raised by this (it may come from below)
-NEAR_GROUP = 8       # rows of a block sharing one second-order reach bound (Mode.near)
+NEAR_GROUP = 8       # rows of a block sharing one second-order reach bound (Mode.near) ...
+NEAR_GROUP_SIZE = 100    # ... on modes of at most this many states (the bound's set-up is 8 size^3)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
@@ -239,6 +240,7 @@ class Mode:
         self._doubling: dict[int, list] = {}
         self._Q: dict[int, np.ndarray] = {}
         self._R = None
+        self._coeff_rows = 0
         self._T = None
         self._B2 = None
         if self.sparse:
@@ -381,6 +383,11 @@ class Mode:
             V = self.taylor(Z)                                       # (terms, count, size)
             return np.stack([(self.H @ V[j].T) for j in range(self.terms)])
         E = len(self.events)
+        self._coeff_rows += Z.shape[0]
+        if self._R is None and self._coeff_rows < E:
+            # forming R (terms x events x size^2) costs as much as the Taylor terms of as many
+            # rows as there are events: a short-lived mode of a large network never forms it
+            return np.matmul(self.H, self.taylor(Z).transpose(0, 2, 1))
         return (self.R.reshape(self.terms * E, -1) @ Z.T).reshape(self.terms, E, Z.shape[0])
 
     def P(self, k: int) -> np.ndarray:
@@ -468,13 +475,20 @@ class Mode:
         formed only on the rows that bound does not clear."""
         if self._B2 is None:
             A, H = np.abs(self.Ft * self.L), self.absH
+            theta = float(A.sum(axis=0).max())           # |A|'s largest column sum, ||F~ L||_1
+            J = min(self.terms, int(math.ceil(2 * theta)) + 6)
             B, M, fact = np.zeros_like(H), H, 2.0
-            for j in range(2, self.terms):
+            for j in range(2, J):
                 B += M / fact
                 M, fact = M @ A, fact * (j + 1)
-            P, power = self.P(self.K), np.eye(A.shape[0])
-            M = np.eye(A.shape[0])
-            for _ in range(1, NEAR_GROUP):
+            if J < self.terms:
+                # the terms from J on, entry by entry: (x |A|^k)_i <= max(x) theta^k, so their
+                # sum is at most max(M) / J! / (1 - theta / (J + 1)) (M = |H| |A|^(J-2))
+                B += (M.max(axis=1) / fact / (1.0 - theta / (J + 1)))[:, None]
+            m = A.shape[0]
+            self._group = NEAR_GROUP if m <= NEAR_GROUP_SIZE else 1
+            P, power, M = self.P(self.K), np.eye(m), np.eye(m)
+            for _ in range(1, self._group):
                 power = power @ P
                 np.maximum(M, np.abs(power), out=M)
             self._B2 = np.ascontiguousarray(B @ M)
@@ -483,7 +497,7 @@ class Mode:
             self._W = np.vstack([self.H @ A, self.H])    # one product for both
             self._A2 = A @ A
         # events along the first axis: the reductions over events run along whole rows
-        E, k, n = self.H.shape[0], NEAR_GROUP, Z.shape[0]
+        E, k, n = self.H.shape[0], self._group, Z.shape[0]
         P = np.abs(self._W @ Z.T)                      # (E + E, rows): |H A z|, |H z|
         second = self._B2 @ np.abs(self._A2 @ Z[::k].T)         # (E, rows / k): M |A^2 z| through the series
         bound = P[:E]

@@ -84,7 +84,7 @@ def _random_polynomials(rng, count, T=49):
 
 def test_the_bernstein_hull_rules_out_only_what_first_fire_refuses():
     rng = np.random.default_rng(11)
-    C = _random_polynomials(rng, 3000)
+    C = _random_polynomials(rng, 600)
     d = rng.choice([-1.0, 1.0], size=len(C))
     tol = 1024 * switching.EPS * np.abs(C).sum(axis=1) * rng.choice([1.0, 1e-290], size=len(C))
     may = switching._may_fire((C * d[:, None]).T[:, None, :], tol[None, :])[0]
@@ -96,4 +96,4 @@ def test_the_bernstein_hull_rules_out_only_what_first_fire_refuses():
         for from_start in (False, True):
             for limit in (1.0, 0.4):
                 assert switching._first_fire(C[k], d[k], float(tol[k]), from_start, limit) is None, k
-    assert ruled_out > 500                                 # it does rule out (the test can fail)
+    assert ruled_out > 100                                 # it does rule out (the test can fail)

@@ -44,3 +44,23 @@ def test_round_trip(value):
     assert convert(convert(value, "m", "in"), "in", "m") == pytest.approx(value, rel=1e-12)
     assert parse_quantity(f"{value!r} mm", "m") == pytest.approx(value / 1000, rel=1e-12)
     assert math.isfinite(parse_quantity(f"{value!r} lbf", "N"))
+
+
+@pytest.mark.parametrize("text, si_unit", [("0.27879741668086166 kg*m^2", "kg*m^2"), ("1500.0 N", "N"),
+                                           ("-3e2 rad/s", "rad/s"), ("2N", "N"), (" 68.7 N*m*s/rad ", "N*m*s/rad")])
+def test_a_number_in_exactly_the_si_unit_reads_as_pint_reads_it(monkeypatch, text, si_unit):
+    # the shortcut that skips pint where the unit is the SI unit asked for, against pint itself
+    from beltcalc import units
+
+    fast = units.parse_quantity(text, si_unit)
+    monkeypatch.setattr(units, "_in_si", lambda text, si_unit: None)           # no shortcut: pint's path
+    assert fast == units.parse_quantity(text, si_unit)
+
+
+@pytest.mark.parametrize("text, si_unit", [("1.5.3 N", "N"), ("1,5 N", "N"), ("inf N", "N"), ("5 m", "kg"),
+                                           ("9" * 400 + " N", "N")])
+def test_the_shortcut_leaves_bad_text_to_the_checks(text, si_unit):
+    from beltcalc.units import QuantityError, parse_quantity
+
+    with pytest.raises(QuantityError):
+        parse_quantity(text, si_unit)

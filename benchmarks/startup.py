@@ -244,22 +244,19 @@ NOTES = """## Notes
 - Bytecode: an installed package reads its compiled modules. With beltcalc compiled from
   source on every run instead (`--no-bytecode`: an editable checkout under
   `PYTHONDONTWRITEBYTECODE`), each ratio is 0.05 to 0.2 higher.
-- Above the target (1.3x): `simulate roller-table` and the `roller_table` drive file (the
-  same scene). Its calculation is about 150 ms of CPU by itself (*Where it goes*): the run
-  (92,281 bottom steps of 65 us: the chain strands' stiffness sets the step, and every step's
-  switching functions are checked, about 20 ms of products) and its error estimate's second
-  run (62,204 steps). Meeting 1.3x needs about 100 ms less: fewer checked steps (a cheaper
-  reach bound over a block of steps, or the stiff ladder's coarse steps where no strand is
-  near a switch), not more of the micro-savings that brought the conveyor under it.
-- Closest to the target (1.3x): `simulate drive conveyor` (the table above). Its calculation
-  is about 50 ms of CPU by itself (see *Where it goes*): two exact runs of 5 s (the run, 24,428
-  internal steps, and its error estimate's second computation on another partition, 16,204
-  steps 1.5 times as long), each step with the switching functions' reach checked, 6 strand
-  switches each located on the exact solution, 5,001 samples with the exact integrals the
-  window's means come from (by powers of the sample step where many fall in one piece), and
-  the watched extremes polished on the exact polynomial of their steps. It was 85 ms (1.46x)
-  before the Taylor matrices, the longer second run, the blocks sized from the last stretch
-  and the vectorised polish; the built-in catalogs now come from a cache (11 -> 1 ms).
+- At the target (1.3x): `simulate roller-table` and its drive file `roller_table` (the same
+  scene; the drive file's range over the pairs is wide on this machine), then `simulate drive
+  conveyor`. The roller table's calculation is about 65 ms of CPU cold (*Where it goes*; it
+  was 140 ms, 1.56x): two exact runs of 6 s, 47,165 bottom steps of 133 us and the error
+  estimate's 32,127 steps 1.5 times as long, every step's switching functions checked, 6,001
+  samples with their exact integrals and 17 watched signals. What made it cheaper: the bottom
+  step is `min(8 / ||F~||, 4 / rho)` instead of `4 / ||F~||` (the chain strands set the norm,
+  6.0e4 1/s, while the spectral radius is 1.9e4: twice the step, half the steps), the reach
+  bound's second-order part and rounding levels formed once per 8 steps, a run's blocks
+  sharing their squared step matrices, glibc's malloc keeping freed memory for the next
+  block's temporaries (the console script sets its thresholds: a page fault per page of
+  every temporary had cost 1.5 us), and the drive data the scene hands the drive-file
+  builder read without pint where its unit is already SI (9 ms: `docs/switching.md`).
 """
 
 

@@ -20,8 +20,8 @@ solution mode by mode:
   sets the norm) the step is THETA's, twice what ``||F~ L|| = 4`` gave; where a stiff
   coupling's own frequency is near ``||F~||`` it is RHO's, as before. Every switching
   function ``r . z`` is then a polynomial in s on the step; its coefficients come from the
-  rows ``R_j = r (F~ L)^j / j!``, precomputed per mode. The output grid plays no part: samples are read off the exact solution afterwards,
-  from the step that holds them.
+  rows ``R_j = r (F~ L)^j / j!``, precomputed per mode. The output grid plays no part:
+  samples are read off the exact solution afterwards, from the step that holds them.
 * **Stiff modes** (``||F~||`` far above the fastest oscillation, e.g. a coupling 10^6 times
   stiffer than the rest): the coarse step is ``h = 2^K L`` (at most one radian of the
   fastest oscillation), propagated by ``P_0 = expm(F~ h)``, built bottom-up by squaring from
@@ -138,16 +138,15 @@ def step_length(norm: float, rho: float) -> float:
     return min(THETA / norm, RHO / (rho if rho > 0 else norm))
 
 
-def _orbit(step: np.ndarray, start: np.ndarray, count: int, powers: list | None = None) -> np.ndarray:
+def _orbit(step: np.ndarray | list, start: np.ndarray, count: int) -> np.ndarray:
     """[start, step start, step^2 start, ...] (count rows) by doubling: log2(count) batched
-    products instead of count sequential ones. ``powers``: the list [step, step^2, step^4,
-    ...] a caller keeps across calls with the same step (extended here as far as needed), so
-    a run's many blocks square the step once, not once per block (a size-62 square is as many
-    flops as 60 rows of the orbit)."""
+    products instead of count sequential ones. ``step`` may be the list [step, step^2,
+    step^4, ...] a caller keeps across calls (extended here as far as needed), so a run's
+    many blocks square the step once, not once per block (a size-62 square is as many flops
+    as 60 rows of the orbit)."""
     out = np.empty((count, start.size))
     out[0] = start
-    if powers is None:
-        powers = [step]
+    powers = step if isinstance(step, list) else [step]
     filled, k = 1, 0
     while filled < count:
         if k == len(powers):
@@ -327,7 +326,7 @@ class Mode:
         switch only to be thrown away). ``integrate`` (sparse): also J, the integral of z over
         each step (rows; None otherwise: a dense run integrates by :class:`_StepIntegrals`)."""
         if not self.sparse:
-            return _orbit(self.P(0), z, count + 1, self.doubling()), None, None
+            return _orbit(self.doubling(), z, count + 1), None, None
         Z = np.empty((count + 1, z.size))
         Z[0] = z
         C = np.empty((count, len(self.events), self.terms))
@@ -415,8 +414,8 @@ class Mode:
         return self._step[1]
 
     def step_integral(self, dt: float) -> list:
-        """[G, G^2, ...] (:func:`_orbit`'s powers) with ``G = [[S, 0], [Phi, I]]`` with ``S = expm(F~ dt)`` and ``Phi = int_0^dt expm(F~ tau)
-        d tau`` (dense): ``[z; I] -> [S z; I + Phi z]`` steps a state and its integral from 0
+        """[G, G^2, ...] (:func:`_orbit`'s powers) of ``G = [[S, 0], [Phi, I]]``, ``S = expm(F~
+        dt)``, ``Phi = int_0^dt expm(F~ tau) d tau`` (dense): ``[z; I] -> [S z; I + Phi z]`` steps a state and its integral from 0
         one sample on, for reading many uniformly spaced samples and the integrals the
         window's means come from off one piece. Both blocks from one exponential,
         ``expm([[F~ dt, I dt], [0, 0]]) = [[S, Phi], [0, I]]`` (Van Loan, IEEE Trans. Autom.
@@ -491,8 +490,8 @@ class Mode:
             for _ in range(1, self._group):
                 power = power @ P
                 np.maximum(M, np.abs(power), out=M)
-            self._B2 = np.ascontiguousarray(B @ M)
-            self._HM = ROUND * (self.absH @ M)
+            self._B2 = np.ascontiguousarray(B @ M if self._group > 1 else B)
+            self._HM = ROUND * (self.absH @ M if self._group > 1 else self.absH)
             A = self.Ft * self.L
             self._W = np.vstack([self.H @ A, self.H])    # one product for both
             self._A2 = A @ A
@@ -838,14 +837,12 @@ class Run:
         if many and not self.integrate:
             # many samples in one piece: the first off its step, the rest by expm(F~ dt) powers
             # (one m^2 product per sample instead of a Taylor sum of TERMS)
-            steps = mode.step(self.dt)
-            Z = _orbit(steps[0], mode.at(base[k[0]], tau[0]), idx.size, steps)
+            Z = _orbit(mode.step(self.dt), mode.at(base[k[0]], tau[0]), idx.size)
         elif self.integrate:
             if many:
                 # the same with the integrals: [z; I] stepped by [[S, 0], [Phi, I]]
                 z0, I0 = mode.at(base[k[0]], tau[0], integrate=True)
-                steps = mode.step_integral(self.dt)
-                W = _orbit(steps[0], np.concatenate([z0, I0 + I_base[k[0]]]), idx.size, steps)
+                W = _orbit(mode.step_integral(self.dt), np.concatenate([z0, I0 + I_base[k[0]]]), idx.size)
                 Z, I = W[:, :z0.size], W[:, z0.size:]
             else:
                 Z, I = mode.at(base[k], tau, integrate=True)
@@ -1017,7 +1014,7 @@ class Run:
                 found = None if hit is None else (hit[0], hit[1] * h, hit[2])
                 self.steps += cnt
             else:
-                Z = _orbit(mode.P(0), z, cnt + 1, mode.doubling())
+                Z = _orbit(mode.doubling(), z, cnt + 1)
                 found = None
                 flags = self._hermite(mode, Z[:-1], Z[1:], h)
                 if first:

@@ -239,7 +239,7 @@ class Watch:
                         # them, then its polynomial either side, as on a mode without a ladder
                         z0, t0 = starts[0]
                         count = int(math.ceil((hi_t - t0) / mode.L * (1 + 1e-12)))
-                        Z = _orbit(mode.P(mode.K), z0, count + 1, mode.doubling(mode.K))
+                        Z = _orbit(mode.doubling(mode.K), z0, count + 1)
                         times = t0 + np.arange(count + 1) * mode.L
                         vals = side * (Z @ self.O[k])
                         inside = np.flatnonzero((times >= lo_t) & (times <= hi_t))

@@ -171,8 +171,13 @@ def _info_rows(result) -> list[Row]:
     if result.extra.get("slack_time"):
         rows.append(Row("events", "strand switches", float(result.extra["events"]), "1"))
     if result.error_estimate is not None:
-        rows.append(Row("error_estimate", "error estimate (worst speed)", result.error_estimate, result.error_unit,
+        worst = "worst figure" if "trajectory_error" in result.extra else "worst speed"
+        rows.append(Row("error_estimate", f"error estimate ({worst})", result.error_estimate, result.error_unit,
                         digits=2, note=f"{result.error_signal}, vs {result.error_reference}"))
+        traj = result.extra.get("trajectory_error")
+        if traj is not None:
+            rows.append(Row("trajectory_difference", "trajectories differ by (worst speed)", traj["value"],
+                            traj["unit"], digits=2, note=f"{traj['signal']}: the samples of two partitions"))
     return rows
 
 

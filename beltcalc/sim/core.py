@@ -398,7 +398,7 @@ def _ivp(name: str, uses_jac: bool):
                 sol = solve_ivp(rhs, (t_cur, t_stop), x, method=solver, t_eval=t_eval, rtol=cfg.rtol,
                                 atol=cfg.atol, events=events or None, **kwargs)
             except _Budget as stop:
-                raise SimulationError(_budget_message(name, stop.args[0], cfg, budget)) from None
+                raise SimulationError(_budget_message(name, stop.args[0], cfg, budget, network)) from None
             for key in stats:
                 stats[key] += int(getattr(sol, key))
             if sol.status < 0:
@@ -464,7 +464,7 @@ def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
         y, info = odeint(rhs, x0, t, Dfun=jac, rtol=cfg.rtol, atol=cfg.atol, full_output=True,
                          tfirst=True, tcrit=crit, mxstep=max(500, cfg.max_rhs_calls // max(t.size, 1)))
     except _Budget as stop:
-        raise SimulationError(_budget_message("odeint", stop.args[0], cfg, budget)) from None
+        raise SimulationError(_budget_message("odeint", stop.args[0], cfg, budget, network)) from None
     if info["message"] != "Integration successful.":
         reached = float(info["tcur"][-1]) if len(info["tcur"]) else t[0]
         reached = reached if 1e-100 <= reached <= t[-1] else t[0]   # unset before the first output: garbage
@@ -503,15 +503,22 @@ def _require_resolvable_inputs(network: Network, t_end: float, cfg: SolverConfig
             f"period); try {instead}")
 
 
-def _budget_message(method: str, reached: float, cfg: SolverConfig, budget: list) -> str:
+def _budget_message(method: str, reached: float, cfg: SolverConfig, budget: list,
+                    network: Network | None = None) -> str:
+    try:            # suggest exact only where it runs: a network linear between switches
+        exact = network is None or (network.linear and choose_method(network, "exact")[0] == "exact")
+    except InputError:
+        exact = False
     if method.lower() in ("rk45", "dop853"):
-        why, instead = "the system is stiff for an explicit method, or switches too often?", "exact, radau or bdf"
+        why = "the system is stiff for an explicit method, or switches too often?"
+        instead = "`method` exact, radau or bdf" if exact else "`method` radau or bdf"
     else:
-        why, instead = ("the solution is hard at this tolerance, switches too often, or the model is many decades "
-                        "stiffer in one part?"), "exact, or a looser `rtol`/`atol`"
+        why = ("the solution is hard at this tolerance, switches too often, or the model is many decades stiffer in "
+               "one part?")
+        instead = "`method` exact, or a looser `rtol`/`atol`" if exact else "a looser `rtol`/`atol`"
     spent = (f"{cfg.max_rhs_calls} right-hand-side calls" if budget[0] > budget[1] else
              f"{cfg.max_seconds:g} s of computing ({budget[0]} right-hand-side calls)")
-    return f"method {method.lower()} stopped at t = {reached:.6g} s after {spent} ({why}); try `method` {instead}"
+    return f"method {method.lower()} stopped at t = {reached:.6g} s after {spent} ({why}); try {instead}"
 
 
 METHODS = {
@@ -574,13 +581,13 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
     result = _run(network, t, x0, cfg, method, reason, watch=watch)
     if not cfg.estimate_error:
         return result
-    estimate_error(result, network, x0, cfg)
+    estimate_error(result, network, x0, cfg, watch=watch)
     tried = [f"{method} ({result.error_relative:.1g})"]
     if result.error_relative > cfg.error_tol and cfg.method == "auto" and method == "exact":
         # refine: a quarter of the internal step, checked against the first run
         fine = _run(network, t, x0, cfg, "exact", reason + "; refined to a quarter of the internal step",
                     scale=0.25, watch=watch)
-        estimate_error(fine, network, x0, cfg, reference=(result.states, "exact at 4x the internal step"))
+        estimate_error(fine, network, x0, cfg, reference=(result, "exact at 4x the internal step"), watch=watch)
         tried.append(f"exact refined ({fine.error_relative:.1g})")
         if fine.error_relative <= cfg.error_tol:
             return fine
@@ -602,7 +609,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
                 radau = None
                 tried.append("radau (" + str(exc).split(" (", 1)[0].replace("method radau ", "") + ")")
         if radau is not None:
-            estimate_error(radau, network, x0, tight, reference=(fine.states, "the refined exact run"))
+            estimate_error(radau, network, x0, tight, reference=(fine, "the refined exact run"))
             tried.append(f"radau ({radau.error_relative:.1g})")
             if radau.error_relative <= cfg.error_tol:
                 return radau
@@ -631,10 +638,13 @@ def _run(network, t, x0, cfg, method, reason, scale: float = 1.0, watch: tuple |
     wall = time.perf_counter() - start
     if not np.all(np.isfinite(x)):
         raise SimulationError(f"method {method} gave non-finite values; try another `method`")
-    result = _outputs(network, t, x, method, reason, wall, steps, calls, extra, extra.pop("generators", None))
+    result = _outputs(network, t, x, method, reason, wall, steps, calls, extra, extra.pop("generators", None),
+                      extra.pop("rebased", None))
     if spy is not None:
         result.extremes = spy.result
+        result.extra["watch_uncertain"] = spy.uncertain
         result.integrals = extra.pop("integrals")
+        result.rigid_integrals = extra.pop("rigid_integrals", None)
         result.linear_rows = network.linear_rows()
         result.signal_integrals = {f"F_{k}": v for k, v in extra.pop("force_integrals").items()}
     return result
@@ -676,19 +686,33 @@ def conditioning(network: Network, t_end: float) -> float:
 
 
 def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: SolverConfig,
-                   reference: tuple[np.ndarray, str] | None = None) -> None:
+                   reference: tuple[SimResult, str] | None = None, watch: tuple | None = None) -> None:
     """Fill the result's error estimate: per speed signal, the largest difference to a second
     computation that shares neither rounding nor partition (exact: another internal step and
     another scaling of A h, at a subset of the samples where the run is one linear piece
     (:func:`reference_rows`); scipy's methods: the exact solution, or Radau at 1/100 of the
     tolerances where no exact solution exists), plus the conditioning floor
-    :func:`conditioning` times the signal's scale."""
+    :func:`conditioning` times the signal's scale.
+
+    A run whose window figures come off the exact solution (``watch``, :func:`simulate`) is
+    judged by them: the second computation is watched too, and the estimate is the largest
+    difference of what the result reports (each watched signal's mean, least and largest
+    value over each window), plus the conditioning floor and what the watch could not rule
+    out (:attr:`beltcalc.sim.watch.Watch.uncertain`), each relative to its signal's scale.
+    The trajectories' difference is kept beside it (``extra["trajectory_error"]``): near-grazing
+    strand switches may shift a trajectory's phase between two partitions while its means and
+    extremes agree (100 rollers)."""
     n, method, t = network.n, result.method, result.t
     speeds = result.states[n:2 * n]
     idx = None                                  # the samples compared (None: every one)
+    other = None                                # the second computation as a result (watched runs)
     if reference is not None:
-        ref, label = reference
-        ref = ref[n:2 * n]
+        other, label = reference
+        ref = other.states[n:2 * n]
+    elif method == "exact" and watch and result.extremes:
+        other = _run(network, t, x0, cfg, "exact", "", scale=ESTIMATE_STEP, watch=watch)
+        ref = other.states[n:2 * n]
+        label = "exact with another internal step and scaling of A h"
     elif method == "exact" and result.extra.get("one_piece"):
         F, balancing = one_piece(network)
         idx, ref = reference_rows(F, np.concatenate([x0, network.generators(0.0)]), float(t[1] - t[0]), t.size,
@@ -730,14 +754,54 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
     result.error_reference = label
     at = int(np.argmax(np.abs(diff[row - n])))
     result.error_at = float(t[at if idx is None else idx[at]])
+    if other is not None and result.extremes and other.extremes:
+        _figure_errors(result, other, floor)
 
 
-def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra, g=None) -> SimResult:
+def _figure_errors(result: SimResult, other: SimResult, floor: float) -> None:
+    """Judge a watched run by the figures it reports: per watched signal and window, the
+    differences of mean, least and largest value to the second computation ``other``, plus
+    the conditioning floor and the watch's uncertainty, relative to the largest |value| of
+    the signals of its unit. The worst becomes the result's estimate (``error_signal`` names
+    the figure); the trajectories' worst relative difference goes to
+    ``extra["trajectory_error"]``."""
+    result.extra["trajectory_error"] = {"value": result.error_estimate, "unit": result.error_unit,
+                                        "relative": result.error_relative, "signal": result.error_signal}
+    scales: dict[str, float] = {}
+    names = sorted({name for name, _ in result.extremes})
+    for name in names:
+        unit = result.units.get(name, "")
+        y = result.signals[name]
+        scales[unit] = max(scales.get(unit, 0.0), float(np.max(np.abs(y))) if y.size else 0.0)
+    uncertain = result.extra.get("watch_uncertain", {})
+    worst = None
+    for (name, start) in sorted(result.extremes):
+        unit = result.units.get(name, "")
+        scale = scales[unit] if scales[unit] > 0 else 1.0
+        a, b = result.summary(name, start), other.summary(name, start)
+        lo_u, hi_u = uncertain.get((name, start), (0.0, 0.0))
+        for what, x, y, u in (("mean", a.mean, b.mean, 0.0), ("min", a.min, b.min, lo_u), ("max", a.max, b.max, hi_u)):
+            err = abs(x - y) + u + floor * scale
+            label = f"{what} of {name} over t >= {start:g} s"
+            result.errors[label] = err
+            if worst is None or err / scale > worst[0]:
+                worst = (err / scale, label, unit, scale, err)
+    if worst is None:
+        return
+    rel, label, unit, scale, err = worst
+    result.error_relative, result.error_signal, result.error_unit = float(rel), label, unit
+    result.error_scale, result.error_estimate = float(scale), float(err)
+
+
+def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra, g=None,
+             rebased=None) -> SimResult:
     """States, accelerations and every element's outputs (:meth:`Network.outputs`), each an
     array expression over all samples. A run that is one linear piece (no strands, no time
     break points) takes its accelerations from one product, :func:`one_piece_accelerations`.
     ``g``: the generators at ``t`` where the run propagated them with the states (else they
-    are evaluated here, once for every output)."""
+    are evaluated here, once for every output). ``rebased``: the states with the free rigid
+    rotations taken out (:meth:`beltcalc.sim.switching.Run.rebase`): every elastic output
+    (a torque, a force: differences of angles) is computed from them, the angles from x."""
     n = network.n
     signals, units = {}, {}
     for (name, unit), row in zip(network.state_names(), x):
@@ -750,8 +814,11 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra, 
             accel = network.derivative(t, x)[n:2 * n]
         for k, (name, unit) in enumerate(network.accel_names()):
             signals[name], units[name] = accel[k], unit
-        for name, (value, unit) in network.outputs(t, x, accel).items():
+        for name, (value, unit) in network.outputs(t, x if rebased is None else rebased, accel).items():
             signals[name], units[name] = value, unit
+        if rebased is not None:                # the angles of geared nodes as they are
+            for name, (value, unit) in network.node_signals(x, accel).items():
+                signals[name], units[name] = value, unit
     finally:
         network.seed_generators(t, None)
     return SimResult(t=t, signals=signals, units=units, method=method, reason=reason, wall_time=wall,

@@ -52,6 +52,7 @@ class SimResult:
     error_at: float = 0.0
     warnings: list = field(default_factory=list)
     integrals: np.ndarray | None = None
+    rigid_integrals: tuple | None = None     # (R, Theta): the rotations re-based out of ``integrals``
     extremes: dict = field(default_factory=dict)
     linear_rows: dict = field(default_factory=dict)
     signal_integrals: dict = field(default_factory=dict)
@@ -84,7 +85,12 @@ class SimResult:
         # is O(dt) off the integral)
         mean = float(np.trapezoid(y, self.t[idx]) / (self.t[b] - self.t[a])) if b > a else float(y[0])
         if self.integrals is not None and name in self.linear_rows and b > a:
-            mean = float(self.linear_rows[name] @ (self.integrals[:, b] - self.integrals[:, a]) / (self.t[b] - self.t[a]))
+            row = self.linear_rows[name]
+            total = float(row @ (self.integrals[:, b] - self.integrals[:, a]))
+            if self.rigid_integrals is not None:        # the rotations the run took out of the angles
+                R, theta = self.rigid_integrals
+                total += float((R @ row) @ (theta[:, b] - theta[:, a]))
+            mean = total / (self.t[b] - self.t[a])
         elif name in self.signal_integrals and b > a:
             cum = self.signal_integrals[name]
             mean = float((cum[b] - cum[a]) / (self.t[b] - self.t[a]))

@@ -32,6 +32,9 @@ from beltcalc.sim.scalar import bounded_minimum
 from beltcalc.sim.switching import _orbit
 
 GRID = 257          # points per refinement interval before the local optimum is polished
+MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
+CANDIDATE_BYTES = 64e6  # ... as far as their step points fit this much
+CURVE_SAFETY = 2.0     # the largest |s''| seen on a step and its neighbours, times this, bounds it there
 LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many
 WALK_POINTS = 2e6      # a stiff mode is watched at every bottom step where the run has at most this many ...
 WALK_BYTES = 32e6      # ... and its 2^K powers of expm(F~ L) take at most this much
@@ -51,21 +54,32 @@ class Watch:
         """Attach to a run: rows in its balanced coordinates, empty records."""
         self.run = run
         self.O = self.rows * run.S[None, :]
+        # the run takes free rigid rotations out of the angles as it goes (Run.rebase): a
+        # signal that sees them (an angle) is not watched; the samples give its extremes
+        rigid = getattr(run, "rigid", np.zeros((0, run.S.size)))
+        self.moves = (np.abs(self.rows @ rigid.T) > 1e-9 * np.abs(self.rows).sum(axis=1)[:, None]).any(axis=1) \
+            if rigid.size else np.zeros(len(self.names), dtype=bool)
         nw, k, size = len(self.windows), len(self.names), run.S.size
-        self.best = {side: np.full((nw, k), -np.inf) for side in (1, -1)}     # side * value, largest
-        self.z = {side: np.zeros((nw, k, size)) for side in (1, -1)}
-        self.t = {side: np.zeros((nw, k)) for side in (1, -1)}
-        # the step point before the best one (the stiff ladder reads forward only: the peak
-        # may lie in the step that ends at the best point)
-        self.z_prev = {side: np.zeros((nw, k, size)) for side in (1, -1)}
-        self.t_prev = {side: np.full((nw, k), np.nan) for side in (1, -1)}
+        # up to C candidate steps per signal, side and window (memory: CANDIDATE_BYTES)
+        C = self.C = int(min(MAX_CANDIDATES, max(1, CANDIDATE_BYTES // max(1, nw * k * size * 8 * 4))))
+        self.best = {side: np.full((nw, k), -np.inf) for side in (1, -1)}     # side * value, largest seen
+        self.u = {side: np.full((nw, k, C), -np.inf) for side in (1, -1)}     # each candidate's bound
+        self.dropped = {side: np.full((nw, k), -np.inf) for side in (1, -1)}  # the largest bound let go
+        self.z = {side: np.zeros((nw, k, C, size)) for side in (1, -1)}
+        self.t = {side: np.zeros((nw, k, C)) for side in (1, -1)}
+        # the step point before each candidate's (the stiff ladder reads forward only: the peak
+        # may lie in the step that ends at the candidate's point)
+        self.z_prev = {side: np.zeros((nw, k, C, size)) for side in (1, -1)}
+        self.t_prev = {side: np.full((nw, k, C), np.nan) for side in (1, -1)}
         self._last: tuple[np.ndarray, float, int] | None = None
-        self.key = {side: np.zeros((nw, k), dtype=np.int64) for side in (1, -1)}   # index into self.keys
+        self.key = {side: np.zeros((nw, k, C), dtype=np.int64) for side in (1, -1)}   # index into self.keys
         self.keys: list[tuple] = []          # mode keys (pattern, piece, time): the cache rebuilds the mode
         self._key_index: dict[tuple, int] = {}
-        self.piece = {side: np.zeros((nw, k), dtype=np.int64) for side in (1, -1)}
+        self.piece = {side: np.zeros((nw, k, C), dtype=np.int64) for side in (1, -1)}
         self.piece_start: list[float] = []
-        self._half: dict[tuple, np.ndarray] = {}
+        self._half: dict[tuple, tuple] = {}
+        self._second: dict[tuple, np.ndarray] = {}
+        self.uncertain: dict[tuple[str, float], tuple[float, float]] = {}
 
     def values(self, taut: tuple[bool, ...], Z: np.ndarray) -> np.ndarray:
         """(signals, rows of Z): the signals at the states Z in the strand pattern ``taut``
@@ -130,23 +144,43 @@ class Watch:
             # each chunk ends on the next one's first point: no step is left between chunks
             yield np.vstack([Zb, Z[b]]), np.append(tb, times[b])
 
-    def _halves(self, mode, Z: np.ndarray, times: np.ndarray, spacing: float) -> np.ndarray:
-        """(signals, rows - 1): the signals half way through each step Z[i] -> Z[i+1]; a full
-        step (``spacing`` long) by ``O expm(F~ spacing / 2)`` (one product of the signals'
-        rows, kept per mode and spacing), a shorter one by the mode's own reading."""
-        key = (mode.key, spacing)
-        Oh = self._half.get(key)
-        if Oh is None:
-            Oh = self._half[key] = self.O @ expm(mode.Ft * (spacing / 2))
-        mids = Oh @ Z[:-1].T
+    def _rows2(self, mode) -> np.ndarray:
+        """The signals' second derivatives as rows over z: ``O F~^2`` (kept per mode)."""
+        O2 = self._second.get(mode.key)
+        if O2 is None:
+            O2 = self._second[mode.key] = np.asarray((mode.Ft.T @ (mode.Ft.T @ self.O.T)).T)
+        return O2
+
+    def _halves(self, mode, Z: np.ndarray, times: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray]:
+        """(signals, rows - 1) twice: the signals and their second derivatives half way through
+        each step Z[i] -> Z[i+1]; a full step (``spacing`` long) by ``O expm(F~ spacing / 2)``
+        (one product of the signals' rows, kept per mode and spacing), a shorter one, and every
+        step of a sparse mode (no dense matrix of it), by the mode's own reading."""
         dt = times[1:] - times[:-1]
+        O2 = self._rows2(mode)
+        if mode.sparse:
+            zs = mode.at(Z[:-1], dt / 2)
+            return self.O @ zs.T, O2 @ zs.T
+        key = (mode.key, spacing)
+        hit = self._half.get(key)
+        if hit is None:
+            E = expm(mode.Ft * (spacing / 2))
+            hit = self._half[key] = (self.O @ E, O2 @ E)
+        Oh, O2h = hit
+        mids, curv = Oh @ Z[:-1].T, O2h @ Z[:-1].T
         short = np.flatnonzero(dt < spacing * (1 - 1e-9))     # (step times round to 1e-11 of a step)
         if short.size:
             zs = mode.at(Z[short], dt[short] / 2)
-            mids[:, short] = self.O @ zs.T
-        return mids
+            mids[:, short], curv[:, short] = self.O @ zs.T, O2 @ zs.T
+        return mids, curv
 
     def _update(self, mode, Z: np.ndarray, times: np.ndarray, piece: int) -> None:
+        """Each signal's best value seen per window and side, and its candidate steps: every
+        step whose values seen (its ends and its midpoint) plus the most a peak between them
+        can rise, ``max |s''| (d^2 / 8)`` with d the spacing of the points seen and
+        ``|s''|`` the largest second derivative seen on the step and its neighbours times
+        CURVE_SAFETY, reach the best value seen: up to C of them, the highest bounds first;
+        the largest bound of those let go is kept (:attr:`uncertain`)."""
         while len(self.piece_start) <= piece:
             self.piece_start.append(float(times[0]))
         key = self._key_index.get(mode.key)
@@ -154,56 +188,100 @@ class Watch:
             key = self._key_index[mode.key] = len(self.keys)
             self.keys.append(mode.key)
         vals = self.values(mode.taut, Z)
-        if Z.shape[0] > 1:
-            # every step's midpoint too: a signal is seen every half step, so a peak between
-            # step points is never more than a quarter step from a point seen
+        npts = Z.shape[0]
+        slack = self._slack(mode.taut) if self.strand.size and (self.strand >= 0).any() else None
+        if npts > 1:
             spacing = mode.L if mode.K == 0 or self.walks(mode) else mode.h
-            mids = self._halves(mode, Z, times, spacing)
-            if self.strand.size and (self.strand >= 0).any():
-                mids[self._slack(mode.taut)] = 0.0
-            both = np.empty((vals.shape[0], 2 * Z.shape[0] - 1))
-            both[:, 0::2], both[:, 1::2] = vals, mids
-            tb = np.empty(2 * Z.shape[0] - 1)
-            tb[0::2], tb[1::2] = times, 0.5 * (times[:-1] + times[1:])
-            vals, times_seen, half = both, tb, 2
+            mids, curv_m = self._halves(mode, Z, times, spacing)
+            curv = np.abs(self._rows2(mode) @ Z.T)
+            if slack is not None:
+                mids[slack] = 0.0
+                curv[slack], curv_m[slack] = 0.0, 0.0
+            # per step: the largest value seen, and the bound of its rise between points seen
+            top = {1: np.maximum(np.maximum(vals[:, :-1], vals[:, 1:]), mids),
+                   -1: -np.minimum(np.minimum(vals[:, :-1], vals[:, 1:]), mids)}
+            c2 = np.maximum(np.maximum(curv[:, :-1], curv[:, 1:]), np.abs(curv_m))
+            c2[:, 1:] = np.maximum(c2[:, 1:], c2[:, :-1].copy())
+            c2[:, :-1] = np.maximum(c2[:, :-1], c2[:, 1:].copy())
+            d = 0.5 * (times[1:] - times[:-1])
+            rise = CURVE_SAFETY * c2 * (d * d / 8)[None, :]
+            seen_t = np.empty(2 * npts - 1)
+            seen_t[0::2], seen_t[1::2] = times, 0.5 * (times[:-1] + times[1:])
+            seen = np.empty((vals.shape[0], 2 * npts - 1))
+            seen[:, 0::2], seen[:, 1::2] = vals, mids
+            step_end = times[1:]
         else:
-            times_seen, half = times, 1
-        cols = np.arange(vals.shape[0])
-        found: dict[int, tuple] = {}        # windows that start before the block share their search
+            top = {1: vals, -1: -vals}
+            rise = np.zeros_like(vals)
+            seen_t, seen = times, vals
+            step_end = times
+        nsteps = top[1].shape[1]
         for w, start in enumerate(self.windows):
-            first = int(np.searchsorted(times_seen, start))    # the points inside the window: first..
-            if first >= times_seen.size:
+            first = int(np.searchsorted(seen_t, start))
+            if first >= seen_t.size:
                 continue
-            inside = vals[:, first:]
-            if first not in found:
-                found[first] = ((1, inside.argmax(axis=1)), (-1, inside.argmin(axis=1)))
-            for side, at in found[first]:
-                top = side * inside[cols, at]
-                better = top > self.best[side][w]
-                if not better.any():
+            s0 = int(np.searchsorted(step_end, start))        # the steps that reach into the window
+            for side in (1, -1):
+                inside = side * seen[:, first:]
+                best = np.maximum(self.best[side][w], inside.max(axis=1))
+                self.best[side][w] = best
+                u = top[side][:, s0:] + rise[:, s0:]
+                u = np.where(u >= best[:, None], u, -np.inf)
+                if not np.isfinite(u).any():
                     continue
-                # a midpoint is recorded by the step point before it (its polynomial reaches it)
-                ks, rows = np.nonzero(better)[0], (first + at[better]) // half
-                self.best[side][w, ks] = top[ks]
-                self.z[side][w, ks] = Z[rows]
-                self.t[side][w, ks] = times[rows]
-                self.piece[side][w, ks] = piece
-                self.key[side][w, ks] = key
-                inner = rows > 0
-                self.z_prev[side][w, ks[inner]] = Z[rows[inner] - 1]
-                self.t_prev[side][w, ks[inner]] = times[rows[inner] - 1]
-                edge = ks[~inner]
-                if edge.size:
-                    if self._last is not None and self._last[2] == piece:
-                        self.z_prev[side][w, edge], self.t_prev[side][w, edge] = self._last[0], self._last[1]
-                    else:
-                        self.t_prev[side][w, edge] = np.nan
+                self._merge(side, w, u, s0, Z, times, piece, key, best)
         self._last = (Z[-1].copy(), float(times[-1]), piece)
 
+    def _merge(self, side: int, w: int, u: np.ndarray, s0: int, Z, times, piece: int, key: int,
+               best: np.ndarray) -> None:
+        """Keep the C highest bounds of the candidates so far and of this block's steps ``u``
+        (signals, steps from s0; -inf: not a candidate), each with its step point."""
+        C, k = self.C, u.shape[0]
+        take = min(C, u.shape[1])
+        idx = np.argpartition(-u, take - 1, axis=1)[:, :take] if u.shape[1] > take else \
+            np.broadcast_to(np.arange(u.shape[1]), (k, u.shape[1]))
+        cu = np.take_along_axis(u, idx, axis=1)                       # (signals, take)
+        old = self.u[side][w]
+        old = np.where(old >= best[:, None], old, -np.inf)          # bounds below the best seen: gone
+        allu = np.concatenate([old, cu], axis=1)                      # (signals, C + take)
+        order = np.argsort(-allu, axis=1)
+        keep, drop = order[:, :C], order[:, C:]
+        if drop.shape[1]:
+            lost = np.take_along_axis(allu, drop, axis=1).max(axis=1)
+            self.dropped[side][w] = np.maximum(self.dropped[side][w], lost)
+        new = keep >= C                                               # from this block
+        if not new.any():
+            self.u[side][w] = np.take_along_axis(allu, keep, axis=1)
+            return
+        rows = np.arange(k)[:, None]
+        src = np.where(new, keep - C, 0)
+        step = s0 + idx[rows, src]                                    # step index in this block
+        oldpos = np.where(new, 0, keep)
+        for name in ("z", "z_prev"):
+            arr = getattr(self, name)[side][w]
+            kept = arr[rows, oldpos]                                  # (signals, C, size)
+            if name == "z":
+                fresh = Z[step]
+            else:
+                fresh = Z[np.maximum(step - 1, 0)]
+            arr[:] = np.where(new[..., None], fresh, kept)
+        t_prev = np.where(step > 0, times[np.maximum(step - 1, 0)], np.nan)
+        if self._last is not None and self._last[2] == piece:
+            edge = new & (step == 0)
+            if edge.any():
+                self.z_prev[side][w][edge] = self._last[0]
+                t_prev = np.where(step == 0, self._last[1], t_prev)
+        for name, fresh in (("t", times[step]), ("t_prev", t_prev), ("piece", np.full(step.shape, piece)),
+                            ("key", np.full(step.shape, key))):
+            arr = getattr(self, name)[side][w]
+            arr[:] = np.where(new, fresh, arr[rows, oldpos])
+        self.u[side][w] = np.take_along_axis(allu, keep, axis=1)
+
     def finish(self) -> None:
-        """Polish every recorded extreme on the exact polynomial around its point: the
-        polynomials of every signal, side and window at once (:func:`polish_polynomials`),
-        a stiff mode's ladder one by one (:meth:`_polish`)."""
+        """Polish every candidate on the exact polynomial around its point: the polynomials of
+        every signal, side, window and candidate at once (:func:`polish_polynomials`), a stiff
+        mode's ladder one by one (:meth:`_polish`). Where candidates were let go whose bound
+        lies above the extreme found, :attr:`uncertain` holds by how much (else 0)."""
         run = self.run
         ends = run.piece_ends + [run.t_end]
         slots, values = [], []                      # (window, side, signal), the value so far
@@ -217,45 +295,8 @@ class Watch:
                     slot = len(slots)
                     slots.append((w, side, k))
                     values.append(best)
-                    mode = run.cache.get(*self.keys[self.key[side][w, k]])
-                    tz, p = self.t[side][w, k], self.piece[side][w, k]
-                    walked = self.walks(mode)          # its records are bottom-step points
-                    reach = mode.L if walked else mode.h
-                    lo_t = max(start, self.piece_start[p], tz - reach)
-                    hi_t = min(run.t_end, ends[p], tz + reach)
-                    if not hi_t > lo_t or (self.strand[k] >= 0 and not mode.taut[self.strand[k]]):
-                        continue
-                    starts = [(self.z[side][w, k], tz)]
-                    t_prev = self.t_prev[side][w, k]
-                    if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
-                        starts.insert(0, (self.z_prev[side][w, k], t_prev))
-                    if walked:           # the polynomial either side of the best bottom-step point
-                        a, b = max(-1.0, (lo_t - tz) / mode.L), min(1.0, (hi_t - tz) / mode.L)
-                        jobs.append((slot, side * (mode.taylor(self.z[side][w, k]) @ self.O[k]), a, b))
-                        continue
-                    if mode.K and 2 ** (mode.K + 1) <= LADDER_POINTS:
-                        # a stiff mode's step points are 2^K bottom steps apart: its bottom-step
-                        # points over [t0, tz + h] by the bottom step expm(F~ L), the best of
-                        # them, then its polynomial either side, as on a mode without a ladder
-                        z0, t0 = starts[0]
-                        count = int(math.ceil((hi_t - t0) / mode.L * (1 + 1e-12)))
-                        Z = _orbit(mode.doubling(mode.K), z0, count + 1)
-                        times = t0 + np.arange(count + 1) * mode.L
-                        vals = side * (Z @ self.O[k])
-                        inside = np.flatnonzero((times >= lo_t) & (times <= hi_t))
-                        if inside.size:
-                            j = int(inside[np.argmax(vals[inside])])
-                            values[slot] = max(values[slot], float(vals[j]))
-                            a, b = max(-1.0, (lo_t - times[j]) / mode.L), min(1.0, (hi_t - times[j]) / mode.L)
-                            jobs.append((slot, side * (mode.taylor(Z[j]) @ self.O[k]), a, b))
-                        continue
-                    for z0, t0 in starts:
-                        a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
-                        if mode.K == 0:      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
-                            jobs.append((slot, side * (mode.taylor(z0) @ self.O[k]), a, b))
-                        else:                # a ladder too tall to walk step by step: a search on it
-                            f = self._ladder(mode, z0, k, side)
-                            values[slot] = max(values[slot], self._polish(f, max(a, 0.0), min(b, 1.0)))
+                    for c in np.flatnonzero(self.u[side][w, k] >= best):
+                        self._candidate(run, ends, start, w, side, k, int(c), slot, values, jobs)
         values = np.array(values)
         if jobs:
             at = np.array([j[0] for j in jobs])
@@ -265,11 +306,60 @@ class Watch:
             found = polish_polynomials(C, np.array([j[2] for j in jobs]), np.array([j[3] for j in jobs]))
             np.maximum.at(values, at, found)
         for (w, side, k), value in zip(slots, values.tolist()):
+            if self.moves[k]:
+                continue
             if self.strand[k] >= 0:        # a taut strand pulls: what rounds below zero at a switch is zero
                 value = max(value, 0.0) if side == 1 else min(value, 0.0)
             key = (self.names[k], self.windows[w])
             lo_v, hi_v = self.result.get(key, (np.nan, np.nan))
             self.result[key] = (lo_v, value) if side == 1 else (-value, hi_v)
+            gap = max(0.0, float(self.dropped[side][w, k]) - value)
+            lo_u, hi_u = self.uncertain.get(key, (0.0, 0.0))
+            self.uncertain[key] = (lo_u, gap) if side == 1 else (gap, hi_u)
+
+    def _candidate(self, run, ends, start, w, side, k, c, slot, values, jobs) -> None:
+        """The polish jobs of candidate c of (window w, side, signal k): its polynomial either
+        side of its step point, inside its strand-mode piece and the window."""
+        mode = run.cache.get(*self.keys[self.key[side][w, k, c]])
+        tz, p = self.t[side][w, k, c], self.piece[side][w, k, c]
+        z = self.z[side][w, k, c]
+        walked = self.walks(mode)          # its records are bottom-step points
+        reach = mode.L if walked else mode.h
+        lo_t = max(start, self.piece_start[p], tz - reach)
+        hi_t = min(run.t_end, ends[p], tz + reach)
+        if not hi_t > lo_t or (self.strand[k] >= 0 and not mode.taut[self.strand[k]]):
+            return
+        starts = [(z, tz)]
+        t_prev = self.t_prev[side][w, k, c]
+        if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
+            starts.insert(0, (self.z_prev[side][w, k, c], t_prev))
+        if walked:           # the polynomial either side of the best bottom-step point
+            a, b = max(-1.0, (lo_t - tz) / mode.L), min(1.0, (hi_t - tz) / mode.L)
+            jobs.append((slot, side * (mode.taylor(z) @ self.O[k]), a, b))
+            return
+        if mode.K and 2 ** (mode.K + 1) <= LADDER_POINTS:
+            # a stiff mode's step points are 2^K bottom steps apart: its bottom-step
+            # points over [t0, tz + h] by the bottom step expm(F~ L), the best of
+            # them, then its polynomial either side, as on a mode without a ladder
+            z0, t0 = starts[0]
+            count = int(math.ceil((hi_t - t0) / mode.L * (1 + 1e-12)))
+            Z = _orbit(mode.doubling(mode.K), z0, count + 1)
+            times = t0 + np.arange(count + 1) * mode.L
+            vals = side * (Z @ self.O[k])
+            inside = np.flatnonzero((times >= lo_t) & (times <= hi_t))
+            if inside.size:
+                j = int(inside[np.argmax(vals[inside])])
+                values[slot] = max(values[slot], float(vals[j]))
+                a, b = max(-1.0, (lo_t - times[j]) / mode.L), min(1.0, (hi_t - times[j]) / mode.L)
+                jobs.append((slot, side * (mode.taylor(Z[j]) @ self.O[k]), a, b))
+            return
+        for z0, t0 in starts:
+            a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
+            if mode.K == 0:      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
+                jobs.append((slot, side * (mode.taylor(z0) @ self.O[k]), a, b))
+            else:                # a ladder too tall to walk step by step: a search on it
+                f = self._ladder(mode, z0, k, side)
+                values[slot] = max(values[slot], self._polish(f, max(a, 0.0), min(b, 1.0)))
 
     @staticmethod
     def _polish(f, a: float, b: float) -> float:

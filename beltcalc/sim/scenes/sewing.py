@@ -7,7 +7,10 @@ transmitted torque of the main and bottom shafts over a steady window. SI floats
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache
+
+import numpy as np
 
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
@@ -41,7 +44,13 @@ PARAMS += [
     Param("belt_center_distance", "m", "centre distance of the motor belt"),
     Param("roller_pivot_x", "m", "the roller's pivot along the belt, from the motor pulley"),
     Param("roller_pivot_y", "m", "the roller's pivot across the belt (negative: below)"),
+    Param("belt_pretension", "N", "pretension of the motor belt's spans with the roller (not given: two-way spans "
+                                  "without one, the paper's belt; given: tension-only spans)", required=False),
 ] + TIMING
+
+#: the roller's values by the scene's names (:func:`beltcalc.sim.eccentric.refuse`)
+ROLLER = {"r1": "motor_pulley_radius", "r3": "roller_radius", "a": "belt_center_distance", "px": "roller_pivot_x",
+          "py": "roller_pivot_y", "delta": "roller_eccentricity"}
 
 
 def check(p: dict) -> None:
@@ -60,6 +69,21 @@ def check(p: dict) -> None:
         require_range("load_frequency", p["load_frequency"], "rad/s", low=0.0)
         if p["pole_pairs"] < 1 or p["pole_pairs"] != int(p["pole_pairs"]):
             raise InputError(f"{p['pole_pairs']:g} is not allowed; it must be a whole number >= 1", param="pole_pairs")
+        if p.get("belt_pretension") is not None:
+            require_range("belt_pretension", p["belt_pretension"], "N", low=0.0)
+        if p.get("roller_eccentricity", 0.0) > 0:      # else the roller's values change nothing
+            from beltcalc.sim.eccentric import refuse
+
+            refuse(roller_geometry(p), ROLLER)
+
+
+def roller_geometry(p: dict):
+    """The eccentric roller's :class:`~beltcalc.sim.beltpath.Eccentric` of the scene's values."""
+    from beltcalc.sim.beltpath import Eccentric
+
+    r1 = p["motor_pulley_radius"]
+    return Eccentric(r1=r1, r2=p["U12"] * r1, a=p["belt_center_distance"], r3=p["roller_radius"],
+                     px=p["roller_pivot_x"], py=p["roller_pivot_y"], delta=p["roller_eccentricity"])
 
 
 def steady_speed(p: dict) -> float:
@@ -103,7 +127,8 @@ def build(p: dict, angle_loads: bool = False) -> Network:
     the loads at ``load_frequency`` (0: the steady main-shaft speed, :func:`steady_speed`).
 
     With ``angle_loads`` the loads follow the shaft angle, sin(phi), instead of sin(w t):
-    the network is then nonlinear.
+    the network is then nonlinear. With the eccentric roller and ``belt_pretension`` the
+    belt's spans are tension-only (:class:`~beltcalc.sim.eccentric.EccentricBelt`).
     """
     check(p)
     values = {alias: p[name] for name, alias in ALIASES.items()}
@@ -113,7 +138,15 @@ def build(p: dict, angle_loads: bool = False) -> Network:
         values[f"{load}.frequency"] = w
         if angle_loads:
             values[f"{load}.order"] = 1.0
-    return _drive_file().network(values)
+    net = _drive_file().network(values)
+    if p.get("belt_pretension") is not None:
+        # the drive file has no key for it: the scene gives it to the eccentric belt (none
+        # without eccentricity: the constant-ratio coupling has no spans)
+        from beltcalc.sim.eccentric import EccentricBelt
+
+        net.elements = [el.with_pretension(p["belt_pretension"]) if isinstance(el, EccentricBelt) else el
+                        for el in net.elements]
+    return net
 
 
 @lru_cache(maxsize=1)
@@ -151,8 +184,6 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
     ``steady_state_only`` skips the time simulation (a sweep then costs under a millisecond a point)."""
     import time
 
-    import numpy as np
-
     from beltcalc.sim.core import simulate
     from beltcalc.sim.result import SimResult
 
@@ -177,6 +208,10 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
                                   "every signal is mean + Re(H(jw) e^{jwt}) (no time simulation)",
                            wall_time=steady_wall, steps=0, rhs_calls=0)
         return Outcome(net, result, _steady_sections(steady), notes)
+    if eccentric and cfg.method == "exact":
+        reasons = "; ".join(sorted({el.nonlinear_reason for el in net.elements if el.nonlinear_kind}))
+        raise InputError("the exact method needs a network that is linear between switches; this one is not: "
+                         f"{reasons}: use `method` radau (or auto)", param="method")
     omega = net.frequencies()[0] if net.frequencies() else 0.0
     start, periods = whole_period_window(values["t_end"], values["window"], omega)
     result = simulate(net, values["t_end"], samples, cfg)
@@ -186,7 +221,7 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
     elif omega:
         result.warnings.append(f"the window {values['window']:g}..{values['t_end']:g} s is shorter than one load "
                                f"period ({2 * math.pi / omega:.4g} s): its means and amplitudes are of a part of "
-                               "a cycle; the steady-state rows are exact")
+                               "a cycle" + ("; the steady-state rows are exact" if steady is not None else ""))
     sections = []
     for name, (node, torque) in SHAFTS.items():
         speed, accel, tq = (result.summary(s, start) for s in (f"omega_{node}", f"accel_{node}", torque))
@@ -209,23 +244,27 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
                                                    "the eccentric tension roller varies U12") + " (nonlinear)")
     else:
         sections += _steady_sections(steady)
+    span_checks = []
     if eccentric:
-        sections += _roller_sections(values, cfg, result, start, angle_loads)
+        span_rows, span_checks = _span_forces(net, values, result, start)
+        sections += _roller_sections(values, cfg, result, start, angle_loads, span_rows)
     breakdown = values["breakdown_factor"] * values["rated_torque"]
     # the paper's start from rest, direct on line, runs the linearised characteristic far beyond
     # breakdown (the model's own limit, not the drive's): the peak is checked in the window
     checks = motor_checks(result, "M_motor", breakdown, start, peak_from=start) + resonance_check(net, result, start)
+    checks += span_checks
     if omega:
         checks.append(Check("window_periods", "steady window", float(periods), 1.0, "1", kind="min",
                             rule="whole load periods in the window: its means and amplitudes are of whole cycles"))
     return Outcome(net, result, sections, notes, checks, window=start)
 
 
-def _roller_sections(values: dict, cfg, result, start: float, angle_loads: bool) -> list[Section]:
+def _roller_sections(values: dict, cfg, result, start: float, angle_loads: bool,
+                     span_rows: list[Row]) -> list[Section]:
     """The eccentric tension roller: the ratio U12 over the window (min, max, its ripple
-    frequency, once per roller turn: r1/r3 times the motor's speed), and each shaft's speed
+    frequency, once per roller turn: r1/r3 times the motor's speed), each shaft's speed
     and torque amplitude with the roller against the same drive with a constant U12 (run
-    alike, without eccentricity)."""
+    alike, without eccentricity), then ``span_rows`` (:func:`_span_forces`)."""
     from beltcalc.sim.core import simulate
 
     ratio = result.summary("U_12", start)
@@ -244,8 +283,80 @@ def _roller_sections(values: dict, cfg, result, start: float, angle_loads: bool)
                      Row(f"{name}_{what}_amplitude_constant", "  with constant U12", constant, unit),
                      Row(f"{name}_{what}_amplitude_ratio", "  with / without", with_roller / constant, "1",
                          digits=3)]
+    rows += span_rows
     return [Section(("roller",), f"eccentric tension roller (Delta = {values['roller_eccentricity'] * 1e3:g} mm), "
                                  f"t >= {start:.4g} s", rows)]
+
+
+@dataclass(frozen=True)
+class _SpanCheck(Check):
+    """The belt spans' check, whose warning is one line of its own (the span, its least force,
+    the pretension, the eccentricity at which it slackens)."""
+
+    line: str = ""
+
+    def warning(self) -> str:
+        return self.line
+
+
+def _span_forces(net, values: dict, result, start: float) -> tuple[list[Row], list[Check]]:
+    """Each span of the roller's belt against its pretension: its least force over the steady
+    window (the check: a span pulls only while its force is > 0) and over the whole run (the
+    start from rest included), the share of the window it is slack; and, where a span
+    slackens, the eccentricity from which it does (quasi-static,
+    :meth:`~beltcalc.sim.eccentric.EccentricBelt.slackening_eccentricity`).
+
+    Without ``belt_pretension`` the spans are two-way springs without one (the paper's belt):
+    their force changes stand for their forces, and any fall below zero is a span that would
+    need a pretension to stay taut."""
+    from beltcalc.sim.eccentric import EccentricBelt
+
+    belt = next(el for el in net.elements if isinstance(el, EccentricBelt))
+    f0, name = belt.pretension, belt.name
+    prefix = "F" if f0 is not None else "dF"
+    rows, least, share = [], {}, {}
+    if f0 is not None:
+        rows.append(Row("pretension", "belt pretension (each span)", f0, "N"))
+    for side in ("tight", "slack"):
+        force = result[f"{prefix}_{name}_{side}"]
+        window = force[result.t >= start]
+        least[side], share[side] = float(window.min()), float(np.mean(window <= 0))
+        what = "force" if f0 is not None else "force change from the pretension"
+        rows += [Row(f"{side}_force_min", f"{side} span {what}, min", least[side], "N"),
+                 Row(f"{side}_force_min_run", "  over the whole run (from rest)", float(force.min()), "N")]
+        if f0 is not None:
+            rows.append(Row(f"{side}_slack_share", "  share of the window slack", share[side], "1", digits=3))
+    # the span the line is about: the lower one; of two slack ones, the one slack longer
+    side = max(("slack", "tight"), key=lambda k: -least[k] if f0 is None else (least[k] <= 0, share[k], -least[k]))
+    other = "slack" if side == "tight" else "tight"
+    rule = (f"the least force of the two spans over the window t >= {start:.4g} s: a span pulls only while its force "
+            "is > 0 (the start from rest is left out, as for the motor's peak)")
+    if f0 is None:
+        rule = "no pretension given: the spans are two-way; " + rule + "; their force change stands for it"
+    if least[side] > 0:
+        return rows, [Check("belt_spans_taut", f"belt {name} span force, min", least[side], 0.0, "N", kind="min",
+                            rule=rule, signals=(f"{prefix}_{name}_tight", f"{prefix}_{name}_slack"))]
+    window = f"the window t >= {start:.4g} s"
+    if f0 is None:
+        line = (f"belt {name}: no pretension given (`belt_pretension`): its spans are two-way springs, and the {side} "
+                f"span's force falls {-least[side]:.4g} N below its pretension over {window} (the {other} span's "
+                f"{-least[other]:.4g} N): with a pretension under that it goes slack at this eccentricity, which this "
+                "run does not model; give `belt_pretension` to model the spans tension-only")
+    else:
+        speed = result.summary(f"omega_{belt.i}", start).mean
+        pull = result.summary(f"T_{name}", start).mean / belt.geometry.r1     # F_t - F_s, transmitted
+        level = f0 - pull / 2 if side == "slack" else f0 + pull / 2
+        at = belt.slackening_eccentricity(level, speed)
+        from_ = ("at any eccentricity (the pretension is under half the transmitted force)" if at == 0 else
+                 "only through the drive's dynamics (quasi-statically it stays taut up to where the belt leaves the "
+                 "roller)" if at is None else f"from an eccentricity of about {at * 1e3:.3g} mm (quasi-static)")
+        also = f", the {other} span {share[other]:.0%}" if least[other] <= 0 else ""
+        line = (f"belt {name}: its {side} span loses its tension: its force falls from the pretension {f0:.4g} N to "
+                f"{least[side]:.4g} N ({share[side]:.0%} of {window} slack{also}), modelled tension-only; at this "
+                f"pretension it slackens {from_}, here {values['roller_eccentricity'] * 1e3:g} mm; raise "
+                "`belt_pretension` or lower `roller_eccentricity`")
+    return rows, [_SpanCheck("belt_spans_taut", f"belt {name} span force, min", least[side], 0.0, "N", kind="min",
+                             rule=rule, signals=(f"{prefix}_{name}_tight", f"{prefix}_{name}_slack"), line=line)]
 
 
 STEADY_SIGNALS = ["omega_3", "accel_3", "T_23", "omega_5", "accel_5", "T_45", "omega_1", "M_motor"]

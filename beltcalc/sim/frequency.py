@@ -355,8 +355,11 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
     Mean: A a = -B_0, with A's null space (the drive turning freely: its angle grows as
     Omega t) taken out: a = a_p + N beta, the speeds and torques unique. Each sinusoid
     ``B_s sin wt + B_c cos wt``: X = (jw I - A)^-1 (B_c - j B_s), y = Re(c X e^{jwt}).
-    Refused (one line) where no periodic state exists: a ramp input that keeps growing, a
-    drive that accelerates without bound, a strand that would go slack.
+    A taut strand's force is its pretension plus ``c delta + b delta'`` [RP eq. 8-11]. Refused
+    (one line) where no periodic state exists: a ramp input that keeps growing, a drive that
+    accelerates without bound, a drive whose speed no balance sets (it turns freely, or a
+    node's motion is prescribed: its speed is what the history left it), a strand that
+    would go slack.
 
     >>> from beltcalc.sim.network import Coupling, Inertia, Load, Network
     >>> net = Network([Inertia("a", 0.02)], [Coupling("g", "a", None, 50.0, 0.3)], [Load("a", 0.0, 0.5, 40.0)])
@@ -376,6 +379,10 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
     lin = net.linear_rows()
     rows = [output_row(net, y, lin) for y in outputs]
     mean_x = _mean_state(A, B[:, 0])
+    if _free_speed(A):
+        raise InputError("the drive's speed is set by no balance (it turns freely, or a node's motion is prescribed: "
+                         "a double pole at 0), so its steady speed is what the history left it; no periodic steady "
+                         "state", param="drive")
     freqs = net.frequencies()
     first = 1 + int(net.ramp)
     comps: dict[str, dict[float, complex]] = {y: {} for y in outputs}
@@ -384,8 +391,12 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
         rhs = B[:, first + 2 * k + 1] - 1j * B[:, first + 2 * k]
         X[w] = solve_jw(A, rhs[:, None], np.array([w]))[0, :, 0]
     mean, amplitude, units = {}, {}, {}
+    preload = {}                   # a strand's force has a constant part, its pretension (output_row leaves it out)
+    if net.strands:
+        force = net.strand_rows()[1]
+        preload = {f"F_{s.name}": float(force[k, net.size]) for k, s in enumerate(net.strands)}
     for y, (row, power, unit) in zip(outputs, rows):
-        mean[y] = float(row @ mean_x) if power == 0 else 0.0
+        mean[y] = float(row @ mean_x) + preload.get(y, 0.0) if power == 0 else 0.0
         for w in freqs:
             comps[y][w] = complex(row @ X[w] * (1j * w) ** power)
         amplitude[y] = float(sum(abs(c) for c in comps[y].values()))
@@ -404,6 +415,28 @@ def _mean_state(A: np.ndarray, b0: np.ndarray) -> np.ndarray:
         raise InputError("the constant torques do not balance: the drive accelerates without bound (no motor "
                          "or ground holds it); no periodic steady state", param="drive")
     return a[0]
+
+
+def _free_speed(A: np.ndarray) -> bool:
+    """True where A's zero eigenvalue is defective (a Jordan block: a speed that no balance
+    sets, e.g. a drive with no motor or ground, whose angle grows as Omega t for any Omega).
+    The rank decision of :func:`mean_states` (balanced, singular values at most ``1e-10
+    s_max``), and its test of ``L^T N`` for a Jordan block.
+
+    >>> _free_speed(np.array([[0.0, 1.0], [0.0, 0.0]])), _free_speed(np.array([[0.0, 1.0], [0.0, -2.0]]))
+    (True, False)
+    """
+    from beltcalc.sim.linalg import balance
+
+    m = A.shape[0]
+    if m == 0:
+        return False
+    scale = balance(A)
+    U, sv, Vt = np.linalg.svd(A / scale[:, None] * scale[None, :])
+    k = int(np.sum(sv > 1e-10 * sv[0]))
+    if k == m:
+        return False
+    return bool(np.linalg.svd(U[:, k:].T @ Vt[k:].T, compute_uv=False).min() < 1e-8)
 
 
 def mean_states(A: np.ndarray, b0: np.ndarray, scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -3,7 +3,11 @@ values (``ELEMENT.KEY``, and ``t_end``/``samples``/``window``), and its report f
 file: every node's speed, every coupling's and shaft's torque, every strand's extremes,
 slack time and safety, every motor's torque, over the steady window (strands: the whole
 run). Means and extremes come off the exact solution where the run is exact
-(:mod:`beltcalc.sim.watch`). SI floats only.
+(:mod:`beltcalc.sim.watch`). Where the drive has an exact periodic steady state (linear,
+strands taut in it, constant and sinusoidal inputs after the last input change, before the
+window) the same quantities in it, exactly (``steady_state``); else a note says why. A
+check says whether the start-up transient has decayed by the window's start (the slowest
+pole). SI floats only.
 """
 
 from __future__ import annotations
@@ -13,7 +17,9 @@ from pathlib import Path
 
 from beltcalc.params import Param
 from beltcalc.report import Row, Section
-from beltcalc.sim.scenes.base import Outcome, Scene, check_timing, motor_checks, resonance_check, strand_check, strand_sections
+from beltcalc.sim.scenes.base import (Outcome, Scene, SteadyRow, check_timing, exact_steady_state,
+                                      motor_checks, resonance_check, settling_check, steady_sections, strand_check,
+                                      strand_sections, strands_at_end)
 
 
 class _FileScene:
@@ -95,7 +101,64 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
     checks = strand_check(net, result, drive.limits) + resonance_check(net, result, w0)
     for m in net.motors:      # a start from rest without a ramp is outside eq. 2: its peak counts from the window
         checks += motor_checks(result, f"M_{m.name}", m.breakdown_torque, w0, 0.0 if m.sync_table else w0)
-    return Outcome(net, result, report(drive, result), list(drive.notes), checks)
+    notes = list(drive.notes)
+    sections = report(drive, result)
+    steady, why = steady_state(drive)
+    if steady is None:
+        notes.append(f"no exact steady state: {why}")
+    else:
+        sections += steady_report(drive, steady)
+    # the transient's decay: the poles with the strands as in the steady state (taut), else as
+    # at the end of the run; those of the linear part where the drive is nonlinear
+    taut = None if steady is not None else strands_at_end(net, result)
+    checks += settling_check(net, w0, drive.t_end, taut)
+    return Outcome(net, result, sections, notes, checks)
+
+
+def steady_state(drive):
+    """``(ss, None)``: the exact periodic steady state of every quantity the report gives
+    over its window (:func:`~beltcalc.sim.scenes.base.exact_steady_state`), or ``(None,
+    why)``."""
+    net = drive.network
+    outputs = [_speed(net, n) for n in drive.nodes] + [s for s, _ in drive.torques]
+    outputs += [f"T_{name}" for name in drive.spans] + [f"F_{s.name}" for s in net.strands]
+    outputs += [s for s, _ in drive.motors]
+    return exact_steady_state(net, list(dict.fromkeys(outputs)), drive.window)
+
+
+def steady_report(drive, ss) -> list:
+    """The sections of the exact periodic steady state ``ss``, as the window's are laid out
+    (nodes, couplings and shafts, two-way spans, strands, motors: mean and amplitude),
+    under ``steady_state`` (:func:`~beltcalc.sim.scenes.base.steady_sections`)."""
+    net = drive.network
+    exact = "periodic steady state (exact)"
+    layout = [(("nodes", node), node, [
+        SteadyRow("speed_mean", "speed mean", _speed(net, node), digits=5),
+        SteadyRow("speed_amplitude", "ampl.", _speed(net, node), "amplitude"),
+    ], f"nodes, {exact}", node) for node in drive.nodes]
+    for signal, name in drive.torques:
+        force = ss.units[signal] != "N m"
+        layout.append((("couplings", name), name, [
+            SteadyRow("torque_mean", "force mean" if force else "torque mean", signal),
+            SteadyRow("torque_amplitude", "ampl.", signal, "amplitude"),
+        ], f"couplings and shafts, {exact}", name))
+    for name, lever in drive.spans.items():
+        layout.append((("spans", name), name, [
+            SteadyRow("force_mean", "force mean", f"T_{name}", scale=1 / lever, unit="N"),
+            SteadyRow("force_amplitude", "ampl.", f"T_{name}", "amplitude", scale=1 / lever, unit="N"),
+        ], f"belt spans (two-way), {exact}", name))
+    for strand in net.strands:
+        layout.append((("strands", strand.name), strand.name, [
+            SteadyRow("force_mean", "force mean", f"F_{strand.name}"),
+            SteadyRow("force_amplitude", "ampl.", f"F_{strand.name}", "amplitude"),
+        ], f"strands, {exact} (taut throughout: mean - ampl. > 0)", strand.name))
+    for signal, node in drive.motors:
+        layout.append((("motors", signal), f"motor on {node} ({signal}), {exact}", [
+            SteadyRow("torque_mean", "torque, mean", signal),
+            SteadyRow("torque_amplitude", "torque, amplitude", signal, "amplitude"),
+            SteadyRow("speed_mean", "speed, mean", _speed(net, node), digits=5),
+        ], "", ""))
+    return steady_sections(ss, layout)
 
 
 def _speed(net, node: str) -> str:

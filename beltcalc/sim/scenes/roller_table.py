@@ -38,8 +38,8 @@ from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param, Resolved
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network, series_stiffness
-from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, check_timing, motor_checks, scene_values, strand_check,
-                                      strand_sections)
+from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, check_timing, motor_checks, scene_values, settling_check,
+                                      strand_check, strand_sections, strands_at_end)
 
 ROUTINGS = ("serpentine", "loops")
 POSITIVE = {
@@ -349,6 +349,7 @@ def run(values: dict, cfg) -> Outcome:
                                + ": no start-up time; raise `load_start` or `t_end`")
     breakdown = values["breakdown_factor"] * values["rated_torque"]
     checks = strand_check(net, result, breaking) + motor_checks(result, "M_motor", breakdown, w0)
+    checks += settling_check(net, w0, t_end, strands_at_end(net, result))
     return Outcome(net, result, sections, [], checks)
 
 

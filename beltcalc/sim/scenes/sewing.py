@@ -17,7 +17,8 @@ from beltcalc.params import Param
 from beltcalc.checks import Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
-from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, motor_checks, resonance_check, scene_values
+from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, SteadyRow, check_timing, exact_steady_state, motor_checks,
+                                      resonance_check, scene_values, settling_check, steady_sections)
 
 NODES = ("1", "2", "3", "4", "5")
 NAMES = {"1": "motor", "2": "driven-pulley rim", "3": "main shaft", "4": "toothed-pulley rim", "5": "bottom shaft"}
@@ -192,15 +193,15 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
     notes = []
     steady = None
     eccentric = values.get("roller_eccentricity", 0.0) > 0
-    if not (angle_loads or eccentric):
-        from beltcalc.sim import frequency as fr
-
+    if angle_loads or eccentric:
+        why = ("the loads follow the shaft angle" if angle_loads else "the eccentric tension roller varies U12") + \
+            " (nonlinear)"
+    else:
         t0 = time.perf_counter()
-        steady = fr.steady_state(net, STEADY_SIGNALS)
+        steady, why = exact_steady_state(net, STEADY_SIGNALS)
         steady_wall = time.perf_counter() - t0
-    elif steady_state_only:
-        why = "the loads follow the shaft angle" if angle_loads else "the eccentric tension roller varies U12"
-        raise InputError(f"{why} (nonlinear): there is no exact steady state; leave out `steady_state_only`",
+    if steady is None and steady_state_only:
+        raise InputError(f"{why}: there is no exact steady state; leave out `steady_state_only`",
                          param="steady_state_only")
     if steady_state_only:
         result = SimResult(t=np.zeros(0), signals={}, units={}, method="steady state",
@@ -240,8 +241,7 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
         Row("torque_amplitude", "torque, amplitude", torque.amplitude, "N m"),
     ]))
     if steady is None:
-        notes.append("no exact steady state: " + ("the loads follow the shaft angle" if angle_loads else
-                                                   "the eccentric tension roller varies U12") + " (nonlinear)")
+        notes.append(f"no exact steady state: {why}")
     else:
         sections += _steady_sections(steady)
     span_checks = []
@@ -253,6 +253,7 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
     # breakdown (the model's own limit, not the drive's): the peak is checked in the window
     checks = motor_checks(result, "M_motor", breakdown, start, peak_from=start) + resonance_check(net, result, start)
     checks += span_checks
+    checks += settling_check(net, start, values["t_end"])
     if omega:
         checks.append(Check("window_periods", "steady window", float(periods), 1.0, "1", kind="min",
                             rule="whole load periods in the window: its means and amplitudes are of whole cycles"))
@@ -363,22 +364,21 @@ STEADY_SIGNALS = ["omega_3", "accel_3", "T_23", "omega_5", "accel_5", "T_45", "o
 
 
 def _steady_sections(ss) -> list[Section]:
-    """The exact periodic steady state, shaft by shaft and the motor."""
-    out = []
-    for name, (node, torque) in SHAFTS.items():
-        out.append(Section(("steady_state", f"{name}_shaft"), f"{name} shaft ({node}), periodic steady state (exact)", [
-            Row("speed_mean", "speed, mean", ss.mean[f"omega_{node}"], "rad/s", digits=5),
-            Row("speed_amplitude", "speed, amplitude", ss.amplitude[f"omega_{node}"], "rad/s"),
-            Row("accel_amplitude", "acceleration, amplitude", ss.amplitude[f"accel_{node}"], "rad/s^2"),
-            Row("torque_mean", "transmitted torque, mean", ss.mean[torque], "N m"),
-            Row("torque_amplitude", "transmitted torque, amplitude", ss.amplitude[torque], "N m"),
-        ]))
-    out.append(Section(("steady_state", "motor_steady"), "motor (1), periodic steady state (exact)", [
-        Row("speed_mean", "speed, mean", ss.mean["omega_1"], "rad/s", "rpm", digits=5),
-        Row("torque_mean", "torque, mean", ss.mean["M_motor"], "N m"),
-        Row("torque_amplitude", "torque, amplitude", ss.amplitude["M_motor"], "N m"),
-    ]))
-    return out
+    """The exact periodic steady state, shaft by shaft and the motor
+    (:func:`~beltcalc.sim.scenes.base.steady_sections`)."""
+    layout = [(f"{name}_shaft", f"{name} shaft ({node}), periodic steady state (exact)", [
+        SteadyRow("speed_mean", "speed, mean", f"omega_{node}", digits=5),
+        SteadyRow("speed_amplitude", "speed, amplitude", f"omega_{node}", "amplitude"),
+        SteadyRow("accel_amplitude", "acceleration, amplitude", f"accel_{node}", "amplitude"),
+        SteadyRow("torque_mean", "transmitted torque, mean", torque),
+        SteadyRow("torque_amplitude", "transmitted torque, amplitude", torque, "amplitude"),
+    ], "", "") for name, (node, torque) in SHAFTS.items()]
+    layout.append(("motor_steady", "motor (1), periodic steady state (exact)", [
+        SteadyRow("speed_mean", "speed, mean", "omega_1", display="rpm", digits=5),
+        SteadyRow("torque_mean", "torque, mean", "M_motor"),
+        SteadyRow("torque_amplitude", "torque, amplitude", "M_motor", "amplitude"),
+    ], "", ""))
+    return steady_sections(ss, layout)
 
 
 SCENE = Scene(

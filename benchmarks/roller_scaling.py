@@ -37,18 +37,25 @@ import numpy as np  # noqa: E402
 T_END, SAMPLES, TOTAL_LOAD = 6.0, 5001, 120.0
 
 
-def scene(rollers: int):
-    from beltcalc.sim.scenes import SCENES, roller_table
+def values(rollers: int) -> dict:
+    """The scene's values as `beltcalc simulate roller-table --set rollers=N --set
+    roller_load=...` gives them (T_END, SAMPLES and the scene's own window)."""
+    from beltcalc.sim.scenes import SCENES
 
-    values = SCENES["roller-table"].values(rollers=float(rollers), roller_load=TOTAL_LOAD / rollers)
-    return roller_table.build(values)
+    return SCENES["roller-table"].values(rollers=float(rollers), roller_load=TOTAL_LOAD / rollers, t_end=T_END,
+                                         samples=float(SAMPLES))
 
 
 def one(rollers: int, method: str, out: str) -> None:
-    """Run one case in this process; print its figures as JSON and save the node speeds."""
+    """Run one case in this process; print its figures as JSON and save the node speeds.
+    ``exact`` and ``exact+estimate`` time the call the CLI makes (the scene's run: the
+    window's extremes and means watched on the exact solution, every output); Radau the
+    bare ``simulate()`` (no watch: it samples)."""
     from beltcalc.sim.core import SolverConfig, simulate
+    from beltcalc.sim.scenes import roller_table
 
-    net = scene(rollers)
+    vals = values(rollers)
+    net = roller_table.build(vals)
     if method == "exact":
         cfg = SolverConfig("exact", estimate_error=False, max_events=1_000_000)
     elif method == "exact+estimate":
@@ -65,7 +72,10 @@ def one(rollers: int, method: str, out: str) -> None:
     import scipy.sparse  # noqa: F401
 
     t0 = time.perf_counter()
-    r = simulate(net, T_END, SAMPLES, cfg)
+    if method == "radau":
+        r = simulate(net, T_END, SAMPLES, cfg)
+    else:
+        r = roller_table.run(vals, cfg).result
     wall = time.perf_counter() - t0
     n = net.n
     np.save(out, r.states[n:2 * n])

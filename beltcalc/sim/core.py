@@ -236,8 +236,10 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, s
     partition (the error estimate's second computation). ``rows``: the state rows wanted; a
     smooth run computes only those and leaves the others zero (the piecewise path fills all)."""
     if not network.linear:
+        why = "; ".join(sorted({getattr(el, "nonlinear_reason", "loads locked to a shaft angle")
+                                for el in network.elements if el.nonlinear_kind})) or "nonlinear elements"
         raise InputError("the exact method needs a network that is linear between switches; this one has "
-                         "loads locked to a shaft angle: use `method` radau (or auto)", param="method")
+                         f"{why}: use `method` radau (or auto)", param="method")
     if not network.smooth or watch is not None:
         # piecewise (also for a smooth network whose window statistics are watched: the
         # extremes and integrals come off the exact solution, not the samples)

@@ -93,7 +93,7 @@ NEAR_GROUP = 8       # rows of a block sharing one second-order reach bound (Mod
 NEAR_GROUP_SIZE = 100    # ... on modes of at most this many states (the bound's set-up is 8 size^3)
 SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
-REBASE_TURN = 1.0    # rad: a block's rotation before the angles are re-based (Run.rebase)
+REBASE_TURN = 2 * math.pi   # rad: a block's rotation before the angles are re-based (Run.rebase)
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
 
 
@@ -319,17 +319,23 @@ class Mode:
             kernels[1](*self._Ms[j - 1][:2], Z.shape[0], *self._Ms[j - 1][2:], X[j - 1].ravel(), X[j].ravel())
         return X.transpose(0, 2, 1)
 
-    def orbit(self, z: np.ndarray, count: int, stop_early: bool = False, integrate: bool = False):
+    def orbit(self, z: np.ndarray, count: int, stop_early: bool = False, integrate: bool = False,
+              midpoints: bool = False):
         """The states at ``count`` bottom steps from z (rows Z, count + 1 of them) and the
         switching functions' polynomial coefficients on each step, C (terms, events, count).
         ``stop_early`` (sparse): end the block after the first step where a switching
         function comes within its polynomial's reach of zero (nothing is propagated past a
         switch only to be thrown away). ``integrate`` (sparse): also J, the integral of z over
-        each step (rows; None otherwise: a dense run integrates by :class:`_StepIntegrals`)."""
+        each step (rows; None otherwise: a dense run integrates by :class:`_StepIntegrals`).
+        ``midpoints`` (sparse): keep each step's midpoint in ``self.mids`` (with the block's
+        first state), which the watch reads instead of a Taylor sum of its own."""
         if not self.sparse:
             return _orbit(self.doubling(), z, count + 1), None, None
         Z = np.empty((count + 1, z.size))
         Z[0] = z
+        mids = np.empty((count if midpoints else 0, z.size))     # each step's midpoint (the watch's)
+        halves = 0.5 ** np.arange(self.terms)
+        self.mids = None
         C = np.empty((count, len(self.events), self.terms))
         J = np.empty((count, z.size)) if integrate else None
         weights = self.L / np.arange(1, self.terms + 1)
@@ -360,6 +366,8 @@ class Mode:
                     V[j] = self.M(j) @ V[j - 1]
                 c = C[i] = H @ V.T
             np.matmul(ones, V, out=Z[i + 1])
+            if midpoints:
+                np.matmul(halves, V, out=mids[i])
             if integrate:
                 J[i] = weights @ V
             if stop_early and i + 1 < count:           # a step where some function may reach zero: stop here
@@ -371,7 +379,11 @@ class Mode:
                     level = absH @ np.abs(Z[i])
                 tol = ROUND * level + 1e-300
                 if np.any((np.abs(c[:, 0]) <= reach + tol) & (reach + np.abs(c[:, 0]) > tol)):
+                    if midpoints:
+                        self.mids = (mids[:i + 1], Z[0].copy())
                     return Z[:i + 2], C[:i + 1].transpose(2, 1, 0), (J[:i + 1] if integrate else None)
+        if midpoints:
+            self.mids = (mids, Z[0].copy())
         return Z, C.transpose(2, 1, 0), J
 
     def coeffs(self, Z: np.ndarray) -> np.ndarray:
@@ -1059,7 +1071,8 @@ class Run:
             times = t0 + (i + np.arange(cnt + 1)) * h
             J = None
             if mode.K == 0:
-                Z, C, J = mode.orbit(z, cnt, stop_early=True, integrate=integ and mode.sparse)
+                Z, C, J = mode.orbit(z, cnt, stop_early=True, integrate=integ and mode.sparse,
+                                     midpoints=self.watch is not None and mode.sparse)
                 cnt = Z.shape[0] - 1
                 times = times[:cnt + 1]
                 hit = self._scan_exact(mode, Z, first, C=C)
@@ -1218,15 +1231,25 @@ def rigid_modes(Fs: list[np.ndarray], n: int) -> tuple[np.ndarray, np.ndarray]:
                 group.append(int(j))
                 todo.append(int(j))
         group.sort()
-        K = np.vstack([F[:, group] for F in Fs])
         r = np.zeros(len(group))
         r[group.index(root)] = 1.0
         rest = [i for i, g in enumerate(group) if g != root]
         if rest:
-            y = np.linalg.lstsq(K[:, rest], -K[:, group.index(root)], rcond=None)[0]
-            r[rest] = y
-        size = float(np.abs(K).sum(axis=0).max()) * float(np.abs(r).max())
-        if not np.all(np.isfinite(r)) or float(np.abs(K @ r).max()) > 1e-10 * size:
+            # the group's accelerations from its angles, less the root's own row (a free group's
+            # rows are dependent): a square system, then checked on every row of every matrix
+            acc = [n + g for g in group if g != root]
+            A = F0[np.ix_(acc, group)]
+            try:
+                r[rest] = np.linalg.solve(A[:, rest], -A[:, group.index(root)])
+            except np.linalg.LinAlgError:
+                continue
+        size, worst = 0.0, 0.0
+        with np.errstate(all="ignore"):
+            for F in Fs:
+                K = F[:, group]
+                size = max(size, float(np.abs(K).sum(axis=0).max()) * float(np.abs(r).max()))
+                worst = max(worst, float(np.abs(K @ r).max()))
+        if not np.all(np.isfinite(r)) or not worst <= 1e-10 * size:
             continue                               # held to the frame: no free rotation
         v = np.zeros(m)
         v[group] = r

@@ -159,7 +159,15 @@ class Watch:
         dt = times[1:] - times[:-1]
         O2 = self._rows2(mode)
         if mode.sparse:
-            zs = mode.at(Z[:-1], dt / 2)
+            zs = np.empty((Z.shape[0] - 1, Z.shape[1]))
+            full = dt >= spacing * (1 - 1e-9)
+            kept = getattr(mode, "mids", None)          # the orbit's own midpoints of this block
+            if kept is not None and kept[0].shape[0] >= zs.shape[0] and np.array_equal(kept[1], Z[0]):
+                zs[full] = kept[0][:zs.shape[0]][full]
+            else:
+                full[:] = False
+            if not full.all():
+                zs[~full] = mode.at(Z[:-1][~full], dt[~full] / 2)
             return self.O @ zs.T, O2 @ zs.T
         key = (mode.key, spacing)
         hit = self._half.get(key)
@@ -235,47 +243,52 @@ class Watch:
     def _merge(self, side: int, w: int, u: np.ndarray, s0: int, Z, times, piece: int, key: int,
                best: np.ndarray) -> None:
         """Keep the C highest bounds of the candidates so far and of this block's steps ``u``
-        (signals, steps from s0; -inf: not a candidate), each with its step point."""
-        C, k = self.C, u.shape[0]
+        (signals, steps from s0; -inf: not a candidate), each with its step point. A new step
+        takes the slot of a candidate it beats (ties keep the old one): only what enters is
+        copied."""
+        C = self.C
         take = min(C, u.shape[1])
         idx = np.argpartition(-u, take - 1, axis=1)[:, :take] if u.shape[1] > take else \
-            np.broadcast_to(np.arange(u.shape[1]), (k, u.shape[1]))
+            np.broadcast_to(np.arange(u.shape[1]), (u.shape[0], u.shape[1]))
         cu = np.take_along_axis(u, idx, axis=1)                       # (signals, take)
         old = self.u[side][w]
-        old = np.where(old >= best[:, None], old, -np.inf)          # bounds below the best seen: gone
-        allu = np.concatenate([old, cu], axis=1)                      # (signals, C + take)
-        order = np.argsort(-allu, axis=1)
-        keep, drop = order[:, :C], order[:, C:]
-        if drop.shape[1]:
-            lost = np.take_along_axis(allu, drop, axis=1).max(axis=1)
-            self.dropped[side][w] = np.maximum(self.dropped[side][w], lost)
-        new = keep >= C                                               # from this block
-        if not new.any():
-            self.u[side][w] = np.take_along_axis(allu, keep, axis=1)
+        old[old < best[:, None]] = -np.inf                            # bounds below the best seen: gone
+        rows = np.flatnonzero((cu > old.min(axis=1)[:, None]).any(axis=1))
+        if rows.size == 0:
+            if np.isfinite(cu).any():
+                self.dropped[side][w] = np.maximum(self.dropped[side][w], cu.max(axis=1))
             return
-        rows = np.arange(k)[:, None]
-        src = np.where(new, keep - C, 0)
-        step = s0 + idx[rows, src]                                    # step index in this block
-        oldpos = np.where(new, 0, keep)
-        for name in ("z", "z_prev"):
-            arr = getattr(self, name)[side][w]
-            kept = arr[rows, oldpos]                                  # (signals, C, size)
-            if name == "z":
-                fresh = Z[step]
+        allu = np.concatenate([old[rows], cu[rows]], axis=1)         # (rows, C + take)
+        order = np.argsort(-allu, axis=1, kind="stable")              # ties: the old first
+        keep = np.zeros(allu.shape, dtype=bool)
+        np.put_along_axis(keep, order[:, :C], True, axis=1)
+        lost = np.where(keep, -np.inf, allu).max(axis=1)
+        self.dropped[side][w, rows] = np.maximum(self.dropped[side][w, rows], lost)
+        others = np.setdiff1d(np.arange(u.shape[0]), rows)
+        if others.size and np.isfinite(cu[others]).any():
+            self.dropped[side][w, others] = np.maximum(self.dropped[side][w, others], cu[others].max(axis=1))
+        free = np.argsort(keep[:, :C], axis=1, kind="stable")         # the old slots let go, first
+        enter = np.argsort(~keep[:, C:], axis=1, kind="stable")       # the new steps kept, first
+        count = keep[:, C:].sum(axis=1)
+        r, j = np.nonzero(np.arange(take)[None, :] < count[:, None])
+        sig, slot = rows[r], free[r, j]
+        new = enter[r, j]
+        step = s0 + idx[sig, new]
+        self.u[side][w, sig, slot] = cu[sig, new]
+        self.z[side][w, sig, slot] = Z[step]
+        self.t[side][w, sig, slot] = times[step]
+        self.piece[side][w, sig, slot] = piece
+        self.key[side][w, sig, slot] = key
+        inner = step > 0
+        self.z_prev[side][w, sig[inner], slot[inner]] = Z[step[inner] - 1]
+        self.t_prev[side][w, sig[inner], slot[inner]] = times[step[inner] - 1]
+        edge = ~inner
+        if edge.any():
+            if self._last is not None and self._last[2] == piece:
+                self.z_prev[side][w, sig[edge], slot[edge]] = self._last[0]
+                self.t_prev[side][w, sig[edge], slot[edge]] = self._last[1]
             else:
-                fresh = Z[np.maximum(step - 1, 0)]
-            arr[:] = np.where(new[..., None], fresh, kept)
-        t_prev = np.where(step > 0, times[np.maximum(step - 1, 0)], np.nan)
-        if self._last is not None and self._last[2] == piece:
-            edge = new & (step == 0)
-            if edge.any():
-                self.z_prev[side][w][edge] = self._last[0]
-                t_prev = np.where(step == 0, self._last[1], t_prev)
-        for name, fresh in (("t", times[step]), ("t_prev", t_prev), ("piece", np.full(step.shape, piece)),
-                            ("key", np.full(step.shape, key))):
-            arr = getattr(self, name)[side][w]
-            arr[:] = np.where(new, fresh, arr[rows, oldpos])
-        self.u[side][w] = np.take_along_axis(allu, keep, axis=1)
+                self.t_prev[side][w, sig[edge], slot[edge]] = np.nan
 
     def finish(self) -> None:
         """Polish every candidate on the exact polynomial around its point: the polynomials of

@@ -143,3 +143,24 @@ def test_estimate_names_a_reported_figure_and_keeps_the_trajectory_difference():
     traj = r.extra["trajectory_error"]
     assert traj["unit"] == "rad/s"
     assert 0.0 <= traj["relative"] <= 1e-6
+
+
+def test_rigid_modes_free_groups_only():
+    from beltcalc.sim.switching import rigid_modes
+
+    # three inertias: 0-1 joined by a spring with ratio 2 (phi_0 = 2 phi_1 at rest), 2 on a
+    # spring to the frame; state [phi0, phi1, phi2, w0, w1, w2]
+    F = np.zeros((6, 6))
+    F[0, 3] = F[1, 4] = F[2, 5] = 1.0
+    c = 5.0
+    F[3, [0, 1]] = [-c, 2 * c]           # torque c (phi0 - 2 phi1) on 0 ...
+    F[4, [0, 1]] = [2 * c, -4 * c]       # ... and 2x the opposite on 1
+    F[5, 2] = -7.0                        # node 2 held to the frame
+    R, roots = rigid_modes([F], 3)
+    np.testing.assert_allclose(R, [[1.0, 0.5, 0, 0, 0, 0]], rtol=1e-15)
+    assert roots.tolist() == [0]
+    # a second piece whose spring reaches the frame: no free rotation left
+    G = F.copy()
+    G[3, 0] -= 1.0
+    R, roots = rigid_modes([F, G], 3)
+    assert R.shape == (0, 6) and roots.size == 0

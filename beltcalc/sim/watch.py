@@ -34,6 +34,7 @@ from beltcalc.sim.switching import _orbit
 GRID = 257          # points per refinement interval before the local optimum is polished
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
 CANDIDATE_BYTES = 64e6  # ... as far as their step points fit this much
+KEPT_MODES = 8         # modes whose signal rows (half step, second derivative) are kept
 CURVE_SAFETY = 2.0     # the largest |s''| seen on a step and its neighbours, times this, bounds it there
 LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many
 WALK_POINTS = 2e6      # a stiff mode is watched at every bottom step where the run has at most this many ...
@@ -148,6 +149,8 @@ class Watch:
         """The signals' second derivatives as rows over z: ``O F~^2`` (kept per mode)."""
         O2 = self._second.get(mode.key)
         if O2 is None:
+            while len(self._second) >= KEPT_MODES:      # a chain makes thousands of strand patterns
+                self._second.pop(next(iter(self._second)))
             O2 = self._second[mode.key] = np.asarray((mode.Ft.T @ (mode.Ft.T @ self.O.T)).T)
         return O2
 
@@ -172,6 +175,8 @@ class Watch:
         key = (mode.key, spacing)
         hit = self._half.get(key)
         if hit is None:
+            while len(self._half) >= KEPT_MODES:
+                self._half.pop(next(iter(self._half)))
             E = expm(mode.Ft * (spacing / 2))
             hit = self._half[key] = (self.O @ E, O2 @ E)
         Oh, O2h = hit

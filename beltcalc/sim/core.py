@@ -555,7 +555,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
              x0: np.ndarray | None = None, watch: tuple | None = None) -> SimResult:
     """Integrate ``network`` from ``x0`` (rest by default) over [0, t_end] at ``samples`` points.
 
-    ``watch`` = (signal names, window starts): on the exact piecewise path, the result's
+    ``watch`` = (signal names, window starts[, reported]): on the exact piecewise path, the result's
     :meth:`SimResult.summary` over ``[start, t_end]`` then takes those signals' extremes off
     the exact solution (:mod:`beltcalc.sim.watch`) and every linear signal's mean from the
     exact integral of the state, independent of ``samples``.
@@ -631,7 +631,7 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
 
 def _run(network, t, x0, cfg, method, reason, scale: float = 1.0, watch: tuple | None = None) -> SimResult:
     start = time.perf_counter()
-    spy = _watch(network, *watch) if watch and method == "exact" else None
+    spy = _watch(network, *watch[:2]) if watch and method == "exact" else None
     if method == "exact":
         x, steps, calls, extra = _exact(network, t, x0, cfg, scale, spy)
     else:
@@ -757,14 +757,16 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
     at = int(np.argmax(np.abs(diff[row - n])))
     result.error_at = float(t[at if idx is None else idx[at]])
     if other is not None and result.extremes and other.extremes:
-        _figure_errors(result, other, floor)
+        _figure_errors(result, other, floor, watch[2] if watch and len(watch) > 2 else None)
 
 
-def _figure_errors(result: SimResult, other: SimResult, floor: float) -> None:
+def _figure_errors(result: SimResult, other: SimResult, floor: float, reported: dict | None = None) -> None:
     """Judge a watched run by the figures it reports: per watched signal and window, the
     differences of mean, least and largest value to the second computation ``other``, plus
     the conditioning floor and the watch's uncertainty, relative to the largest |value| of
-    the signals of its unit. The worst becomes the result's estimate (``error_signal`` names
+    the signals of its unit. ``reported`` ({signal: window starts}): the figures the caller
+    reports, where it reports fewer than it watches (a shaft's torque over the window, not
+    over the start-up); default every one watched. The worst becomes the result's estimate (``error_signal`` names
     the figure); the trajectories' worst relative difference goes to
     ``extra["trajectory_error"]``."""
     result.extra["trajectory_error"] = {"value": result.error_estimate, "unit": result.error_unit,
@@ -778,6 +780,8 @@ def _figure_errors(result: SimResult, other: SimResult, floor: float) -> None:
     uncertain = result.extra.get("watch_uncertain", {})
     worst = None
     for (name, start) in sorted(result.extremes):
+        if reported is not None and start not in reported.get(name, ()):
+            continue
         unit = result.units.get(name, "")
         scale = scales[unit] if scales[unit] > 0 else 1.0
         a, b = result.summary(name, start), other.summary(name, start)

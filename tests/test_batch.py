@@ -9,7 +9,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from beltcalc.sim import batch
-from beltcalc.sim.core import SolverConfig, _propagate, augmented_matrix, simulate
+from beltcalc.sim.core import SolverConfig, _propagate, augmented_matrix, conditioning, simulate
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.base import run_scene
 from beltcalc.sim.scenes.sewing import build
@@ -84,7 +84,11 @@ def test_propagation_is_the_cores():
         got = prop.rows(range(11), 3)                           # from block 3 on (b = 32)
         for j in range(2):
             want = _propagate(F[j], z0[j], 1e-4, 1001, parts, np.arange(11))
-            assert_allclose(got[j], want[:, 3 * prop.b:], rtol=1e-13, atol=1e-13 * np.abs(want).max())
+            # the same scheme on a stack of matrices, which a BLAS kernel may sum in another
+            # order: to twice the propagation's stated rounding floor, eps ||F~|| t_end of the
+            # scale (core.conditioning: 1.4e-11 over these 0.1 s)
+            floor = 2 * conditioning(nets[j], 0.1)
+            assert_allclose(got[j], want[:, 3 * prop.b:], rtol=floor, atol=floor * np.abs(want).max())
 
 
 def test_runs_the_batch_cannot_vouch_for_go_one_by_one():

@@ -224,13 +224,17 @@ def test_sweep_pretension_json():
     assert_allclose([r["pretension_N"] for r in rows], [100.0, 300.0, 500.0], rtol=1e-12)
     # every strand starts at its pretension and the drive strand only tightens from there
     assert_allclose([r["drive-sprocket1_force_min_N"] for r in rows], [100.0, 300.0, 500.0], rtol=1e-9)
-    # the middle point is the run with --set pretension=300N
+    # the middle point is the run with --set pretension=300N: the same inputs through the same
+    # code, equal to rounding, not bit for bit (the same products on arrays at other addresses
+    # may take other BLAS paths: a sewing sweep's point differs from its single run by 7e-12
+    # under OpenBLAS Haswell, tests/test_scenes_api.py); to 1e-9, the method's error (the run's
+    # estimate is 1e-10 of its scale); the neighbouring points differ by 1e-3 and more
     single = js(*SHORT, "--set", "pretension=300N")
-    assert rows[1]["motor_torque_mean_N_m"] == pytest.approx(single["motor"]["torque_mean"]["value"], rel=1e-12)
+    assert rows[1]["motor_torque_mean_N_m"] == pytest.approx(single["motor"]["torque_mean"]["value"], rel=1e-9)
     assert rows[1]["drive-sprocket1_force_max_N"] == pytest.approx(
-        single["strands"]["drive-sprocket1"]["force_max"]["value"], rel=1e-12)
+        single["strands"]["drive-sprocket1"]["force_max"]["value"], rel=1e-9)
     assert rows[1]["2_speed_mean_rad_per_s"] == pytest.approx(single["rollers"]["2"]["speed_mean"]["value"],
-                                                              rel=1e-12)
+                                                              rel=1e-9)
 
 
 # --- methods -------------------------------------------------------------------------------------

@@ -270,6 +270,7 @@ class Figure:
     value: Callable[[dict], float | str]
     tol: float | None = None
     bound: bool = False         # the figure is an upper bound ("within 1e-10")
+    low: float = 0.0            # a bound's lower limit ("between 6e-8 and 7e-8")
 
     @property
     def number(self) -> bool:
@@ -500,13 +501,26 @@ FIGURES = [
     # simulate roller-table
     F("roller sprocket", "19-tooth sprockets (d = p / sin(180 deg / z) = 96.45 mm)", "96.45", J("diameter", MM)),
     F("roller sprocket", "19-tooth sprockets (d = p / sin(180 deg / z) = 96.45 mm)", "19", J("teeth")),
-    F("roller-table", "With no options (3 rollers; error estimate 2.0e-8 rad/s, 1 strand switch", "2.0e-8",
-      J("error_estimate")),
-    F("roller-table", "With no options (3 rollers; error estimate 2.0e-8 rad/s, 1 strand switch", "1",
-      J("events")),
+    # An error estimate to one significant digit, held to half a unit of it: its digits are
+    # rounding (the difference of two partitions), which another BLAS kernel moves. The roller
+    # table's: 7.4e-9 N m under OpenBLAS Prescott, 8.5e-9 under Haswell, on the least or the
+    # largest value of a shaft's torque (which figure is largest changes with the kernel too).
+    # The slack start's: 1.24e-4 N, 2.78e-8 of the scale, on every kernel.
+    F("roller-table", "With no options (3 rollers; error estimate 1e-8 N m, on a torque it reports, 1 strand switch",
+      "1e-8", J("error_estimate")),
+    F("roller-table", "With no options (3 rollers; error estimate 1e-8 N m, on a torque it reports, 1 strand switch",
+      "1", J("events")),
+    F("roller-table", "error estimate 1e-8 N m, on a torque it reports", "torque", lambda d: (
+        "torque" if " of T_" in d["error_signal"] and d["error_estimate"]["unit"] == "N*m" else
+        f"{d['error_signal']} [{d['error_estimate']['unit']}]")),
     F("roller-table slack", "the chain starts slack everywhere: 258 switches in the start-up", "258", J("events")),
-    F("roller-table slack", "(estimate 1.0e-5 rad/s, 6.4e-8 of the scale)", "1.0e-5", J("error_estimate")),
-    F("roller-table slack", "(estimate 1.0e-5 rad/s, 6.4e-8 of the scale)", "6.4e-8", J("error_relative")),
+    F("roller-table slack", "(estimate 1e-4 N, on the least force of a strand, 3e-8 of its scale)", "1e-4",
+      J("error_estimate")),
+    F("roller-table slack", "(estimate 1e-4 N, on the least force of a strand, 3e-8 of its scale)", "3e-8",
+      J("error_relative")),
+    F("roller-table slack", "(estimate 1e-4 N, on the least force of a strand, 3e-8 of its scale)", "least", lambda d: (
+        "least" if d["error_signal"].startswith("min of F_") and d["error_estimate"]["unit"] == "N" else
+        f"{d['error_signal']} [{d['error_estimate']['unit']}]")),
     F("roller-table slack 20 s", "balance (6.1035588 rad/s with `--set pretension=0N --t-end 20s --window 15s`",
       "6.1035588", J("motor/steady_speed_rollers")),
     F("roller-table slack 20 s", "--t-end 20s --window 15s`, within 1e-10 of it)", "1e-10",
@@ -537,7 +551,8 @@ FIGURES = [
     F("roller-table overrun", "the motor brakes at -4.8 N m", "-4.8", J("motor/torque_mean")),
     F("roller-table 20", "--set rollers=20 # any number 1..200 (20: 69 switches)", "69", J("events")),
     # simulate linear-axis
-    F("linear-axis", "error estimate 1e-12 m/s on the carriage speed", "1e-12", J("error_estimate")),
+    # (2.8e-13 to 2.9e-13 over four OpenBLAS kernel families)
+    F("linear-axis", "error estimate 3e-13 m/s on the carriage speed", "3e-13", J("error_estimate")),
     F("linear-axis", "| belt force, min / max | -983 / 999 N |", "-983", J("belt/force_min")),
     F("linear-axis", "| belt force, min / max | -983 / 999 N |", "999", J("belt/force_max")),
     F("linear-axis", "| pretension F_t,peak (as `beltcalc tension`) | 505.1 N |", "505.1", J("belt/pretension")),
@@ -660,7 +675,8 @@ def check(figure: Figure) -> None:
         return
     expected = float(figure.figure.replace(",", ""))
     if figure.bound:
-        assert 0 <= got <= expected, f"README.md says within {figure.figure} ({figure.quote!r}); got {got:.3g}"
+        assert figure.low <= got <= expected, (f"README.md says within {figure.figure} ({figure.quote!r}); "
+                                               f"got {got:.3g}")
         return
     assert got == pytest.approx(expected, abs=figure.tolerance() * (1 + 1e-9)), (
         f"README.md says {figure.figure} ({figure.quote!r}); `beltcalc {' '.join(COMMANDS.get(figure.command, ()))}`"
@@ -707,10 +723,13 @@ def ratio(d: dict, key: str) -> float:
     return d[key]["wall_ms"] / d["exact -"]["wall_ms"]
 
 
+_STEPS = "the exact run takes about 47,000 steps of about 130 us on average chosen from the dynamics"
 for _scene in ("sewing", "roller_table", "linear_axis"):
     PYTHON[f"results {_scene}"] = (lambda s: lambda: results_table(s))(_scene)
 
 R = "results sewing"
+_RK45 = "| RK45, rtol 1e-6 | 1e-5 | 9.0 s, about 183,000 steps, 1.3 million RHS calls | 30303 |"
+_DOP = "| DOP853, rtol 1e-6 | 1.8e-4 | 7.1 s, about 95,000 steps, 1.2 million RHS calls | 23939 |"
 BENCHMARK_FIGURES = [
     # the sewing table: benchmarks/results/work_precision_sewing.md
     F(R, "| exact (expm, blocks) | 6.6e-8 (its estimate) | 0.297 ms | 1 |", "6.6e-8", J("exact -/error")),
@@ -727,26 +746,17 @@ BENCHMARK_FIGURES = [
     F(R, "| solve_ivp Radau, rtol 1e-10 | 4.3e-9 | 2.1 s | 7104 |", "4.3e-9", J("radau 1e-10/error")),
     F(R, "| solve_ivp Radau, rtol 1e-10 | 4.3e-9 | 2.1 s | 7104 |", "2.1", J("radau 1e-10/wall_ms", 1e-3)),
     F(R, "| solve_ivp Radau, rtol 1e-10 | 4.3e-9 | 2.1 s | 7104 |", "7104", lambda d: ratio(d, "radau 1e-10"), tol=10),
-    F(R, "| RK45, rtol 1e-6 | 1e-5 | 9.0 s, 182,705 steps, 1.28 million RHS calls | 30303 |", "1e-5",
-      J("rk45 1e-06/error")),
-    F(R, "| RK45, rtol 1e-6 | 1e-5 | 9.0 s, 182,705 steps, 1.28 million RHS calls | 30303 |", "9.0",
-      J("rk45 1e-06/wall_ms", 1e-3)),
-    F(R, "| RK45, rtol 1e-6 | 1e-5 | 9.0 s, 182,705 steps, 1.28 million RHS calls | 30303 |", "182,705",
-      J("rk45 1e-06/steps")),
-    F(R, "| RK45, rtol 1e-6 | 1e-5 | 9.0 s, 182,705 steps, 1.28 million RHS calls | 30303 |", "1.28",
-      J("rk45 1e-06/rhs_calls", 1e-6)),
-    F(R, "| RK45, rtol 1e-6 | 1e-5 | 9.0 s, 182,705 steps, 1.28 million RHS calls | 30303 |", "30303",
-      lambda d: ratio(d, "rk45 1e-06"), tol=50),
-    F(R, "| DOP853, rtol 1e-6 | 1.8e-4 | 7.1 s, 94,610 steps, 1.17 million RHS calls | 23939 |", "1.8e-4",
-      J("dop853 1e-06/error")),
-    F(R, "| DOP853, rtol 1e-6 | 1.8e-4 | 7.1 s, 94,610 steps, 1.17 million RHS calls | 23939 |", "7.1",
-      J("dop853 1e-06/wall_ms", 1e-3)),
-    F(R, "| DOP853, rtol 1e-6 | 1.8e-4 | 7.1 s, 94,610 steps, 1.17 million RHS calls | 23939 |", "94,610",
-      J("dop853 1e-06/steps")),
-    F(R, "| DOP853, rtol 1e-6 | 1.8e-4 | 7.1 s, 94,610 steps, 1.17 million RHS calls | 23939 |", "1.17",
-      J("dop853 1e-06/rhs_calls", 1e-6)),
-    F(R, "| DOP853, rtol 1e-6 | 1.8e-4 | 7.1 s, 94,610 steps, 1.17 million RHS calls | 23939 |", "23939",
-      lambda d: ratio(d, "dop853 1e-06"), tol=50),
+    # step and call counts as "about": the stored run's, which another BLAS kernel moves
+    F(R, _RK45, "1e-5", J("rk45 1e-06/error")),
+    F(R, _RK45, "9.0", J("rk45 1e-06/wall_ms", 1e-3)),
+    F(R, _RK45, "183,000", J("rk45 1e-06/steps"), tol=500),
+    F(R, _RK45, "1.3", J("rk45 1e-06/rhs_calls", 1e-6)),
+    F(R, _RK45, "30303", lambda d: ratio(d, "rk45 1e-06"), tol=50),
+    F(R, _DOP, "1.8e-4", J("dop853 1e-06/error")),
+    F(R, _DOP, "7.1", J("dop853 1e-06/wall_ms", 1e-3)),
+    F(R, _DOP, "95,000", J("dop853 1e-06/steps"), tol=500),
+    F(R, _DOP, "1.2", J("dop853 1e-06/rhs_calls", 1e-6)),
+    F(R, _DOP, "23939", lambda d: ratio(d, "dop853 1e-06"), tol=50),
     F(R, "The exact method is 140 times faster than the fastest scipy route (odeint)", "140",
       lambda d: ratio(d, "odeint 1e-10")),
     F(R, "at an error estimate 4 times smaller", "4", lambda d: d["odeint 1e-10"]["error"] / d["exact -"]["error"]),
@@ -759,8 +769,8 @@ BENCHMARK_FIGURES = [
       J("odeint 1e-10/wall_ms")),
     F(R, "| sewing (10,001 over 1 s) | 6.6e-8 rad/s, 0.297 ms | odeint rtol 1e-10, 42 ms | 140 |", "140",
       lambda d: ratio(d, "odeint 1e-10")),
-    F(R, "RK45 needs 182,705 steps, 1.28 million calls |", "182,705", J("rk45 1e-06/steps")),
-    F(R, "RK45 needs 182,705 steps, 1.28 million calls |", "1.28", J("rk45 1e-06/rhs_calls", 1e-6)),
+    F(R, "RK45 needs about 183,000 steps, 1.3 million calls |", "183,000", J("rk45 1e-06/steps"), tol=500),
+    F(R, "RK45 needs about 183,000 steps, 1.3 million calls |", "1.3", J("rk45 1e-06/rhs_calls", 1e-6)),
     F("results roller_table", "| roller table (6001 over 6 s, 1 switch) | 1.4e-8 rad/s, 17.1 ms |", "1.4e-8",
       J("exact -/error")),
     F("results roller_table", "| roller table (6001 over 6 s, 1 switch) | 1.4e-8 rad/s, 17.1 ms |", "17.1",
@@ -774,10 +784,12 @@ BENCHMARK_FIGURES = [
     F("results roller_table", "Radau and BDF at rtol 1e-10 run out of 2 million calls", "2",
       lambda d: (d["radau 1e-10"]["error"] is None and d["bdf 1e-10"]["error"] is None) * d["bdf 1e-10"]["rhs_calls"]
       * 1e-6),
-    F("results roller_table", "the exact run takes 47,165 steps of 127 us on average chosen from the dynamics", "47,165",
-      J("exact -/steps")),
-    F("results roller_table", "the exact run takes 47,165 steps of 127 us on average chosen from the dynamics", "127",
-      lambda d: 6.0 / d["exact -"]["steps"] * 1e6),
+    F("results roller_table", _STEPS, "47,000", J("exact -/steps"), tol=1000),
+    F("results roller_table", _STEPS, "130", lambda d: 6.0 / d["exact -"]["steps"] * 1e6, tol=5),
+    F("results roller_table", "two exact runs of 6 s, about 47,000 bottom steps of about 130 us", "47,000",
+      J("exact -/steps"), tol=1000),
+    F("results roller_table", "two exact runs of 6 s, about 47,000 bottom steps of about 130 us", "130",
+      lambda d: 6.0 / d["exact -"]["steps"] * 1e6, tol=5),
     F("results linear_axis", "| linear axis (21,001 over 2.1 s) | 1.1e-12 m/s, 2.76 ms | LSODA rtol 1e-10, 122 ms | 44 |",
       "1.1e-12", J("exact -/error")),
     F("results linear_axis", "| linear axis (21,001 over 2.1 s) | 1.1e-12 m/s, 2.76 ms | LSODA rtol 1e-10, 122 ms | 44 |",
@@ -793,13 +805,17 @@ BENCHMARK_FIGURES = [
     F("results linear_axis", "one solve 3 ms in `benchmarks/results/work_precision_linear_axis.md`", "3",
       J("exact -/wall_ms")),
     # the sewing error estimate's parts, from the library
-    F("sewing estimate", "and scaling of A h (4.5e-9 rad/s here) plus the rounding floor", "4.5e-9", J("partition")),
-    F("sewing estimate", "balanced matrix (6.2e-8 rad/s on a scale of 433 rad/s; 6.6e-8 rad/s in all)", "6.2e-8",
-      J("floor")),
-    F("sewing estimate", "balanced matrix (6.2e-8 rad/s on a scale of 433 rad/s; 6.6e-8 rad/s in all)", "433",
-      J("scale")),
-    F("sewing estimate", "balanced matrix (6.2e-8 rad/s on a scale of 433 rad/s; 6.6e-8 rad/s in all)", "6.6e-8",
-      J("error")),
+    # the partitions' difference is rounding alone on this one-piece run: 4.5e-10 to 3.6e-9
+    # over four OpenBLAS kernel families, so a bound (the floor is eps ||F~|| t_end times the
+    # scale: the same to 12 digits on every kernel)
+    F("sewing estimate", "(rounding alone here, below 1e-8 rad/s; its digits change with the BLAS kernel)", "1e-8",
+      J("partition"), bound=True),
+    F("sewing estimate", "balanced matrix (6.2e-8 rad/s on a scale of 433 rad/s; between 6e-8 and 7e-8 rad/s in all)",
+      "6.2e-8", J("floor")),
+    F("sewing estimate", "balanced matrix (6.2e-8 rad/s on a scale of 433 rad/s; between 6e-8 and 7e-8 rad/s in all)",
+      "433", J("scale")),
+    F("sewing estimate", "balanced matrix (6.2e-8 rad/s on a scale of 433 rad/s; between 6e-8 and 7e-8 rad/s in all)",
+      "7e-8", J("error"), bound=True, low=6e-8),
 ]
 
 
@@ -1010,6 +1026,14 @@ def test_without_a_gearbox_no_motor_fits():
     assert result.exit_code == 1 and "no motor fits" in result.output
 
 
+def assert_within_factor(got: float, stored: float, factor: float) -> None:
+    """``got`` within ``factor`` of ``stored`` either way (both > 0): an error or an error
+    estimate, whose digits below its order of magnitude are rounding."""
+    assert got > 0 and stored > 0, (got, stored)
+    assert math.log(got / stored) == pytest.approx(0.0, abs=math.log(factor)), (
+        f"{got:.3g} is not within a factor of {factor:g} of the stored {stored:.3g}")
+
+
 def markdown_rows(text: str, header: str) -> list[str]:
     """The body rows of the Markdown table whose header line starts with ``header``."""
     lines = text.splitlines()
@@ -1052,9 +1076,13 @@ def test_roller_scaling_rows_come_out_of_the_code(rollers):
     row = rows[rollers]
     net = roller_table.build(SCENES["roller-table"].values(rollers=float(rollers), roller_load=120.0 / rollers))
     r = simulate(net, 6.0, 5001, SolverConfig("exact", max_events=1_000_000, accept_error=True))
+    # states and strand switches are counts of the model and of its physics (a strand going
+    # slack), the same on every kernel
     assert (net.size, r.extra.get("events")) == (int(row[1]), int(row[2]))
-    estimate = float(row[5].split()[0])
-    assert r.error_estimate == pytest.approx(estimate, abs=Figure("", "", row[5].split()[0], len).tolerance())
+    # the estimate's digits are rounding (two partitions' difference): 4.3e-8 to 5.6e-8 at 10
+    # rollers over four OpenBLAS kernel families on the code the table was made with (0778056),
+    # up to 1.4x apart: within a factor of 2
+    assert_within_factor(r.error_estimate, float(row[5].split()[0]), 2.0)
 
 
 WORK_PRECISION_ROWS = [("sewing", "sewing", "exact", None), ("sewing", "sewing", "odeint", 1e-10),
@@ -1084,8 +1112,17 @@ def test_stored_work_precision_rows_come_out_of_the_code(scene_name, file, metho
         r = simulate(net, t_end, samples, SolverConfig(method, rtol=rtol, atol=rtol / 100, max_rhs_calls=2_000_000,
                                                        estimate_error=False))
         error = float(abs(r[scene.signal] - checked[scene.signal]).max())
-    assert (r.steps, r.rhs_calls) == (stored["steps"], stored["rhs_calls"])
-    assert float(f"{error:.2g}") == pytest.approx(stored["error"], rel=1e-9)
+    # An adaptive method's steps follow its error norms, which another BLAS kernel rounds
+    # otherwise: odeint on the roller table took 16,641 to 16,868 steps over four OpenBLAS
+    # kernel families here, 18,100 where the table was made (8 % apart), LSODA on the linear
+    # axis 5,231 to 5,614 against 5,664, its calls up to 11 % apart: to 20 %. The exact
+    # method's steps follow from ||F~|| and the strands' switches, held the same way.
+    assert r.steps == pytest.approx(stored["steps"], rel=0.2)
+    assert r.rhs_calls == pytest.approx(stored["rhs_calls"], rel=0.2)
+    # The error: a scipy method's against the exact run, moved by its steps (sewing's LSODA
+    # 1.9e-7 to 3.3e-7 over the kernels, 3.0e-7 stored); the exact method's is its estimate,
+    # rounding in its last digits: within a factor of 2 of the stored figure
+    assert_within_factor(error, stored["error"], 2.0)
 
 
 # sections whose tables hold no result of a command (or belong to another test)

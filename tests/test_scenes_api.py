@@ -1,8 +1,16 @@
 """The scenes from Python (beltcalc.sim.scenes): values, one run, a sweep, errors; no click.
 
 Reference figures are what `beltcalc simulate <scene> --json` printed before the scene
-runners moved out of the CLI (commit 8d5ef72), to 1e-9; README.md shows them rounded (the
-tables of `simulate sewing`, `simulate roller-table` and `simulate linear-axis`).
+runners moved out of the CLI (commit 8d5ef72), to 1e-8 (``REL``); README.md shows them rounded
+(the tables of `simulate sewing`, `simulate roller-table` and `simulate linear-axis`).
+
+Why 1e-8: these are the code's own earlier output, so they hold only to the method's error,
+whose rounding part another BLAS kernel moves. The runs' estimates are 1e-10 of their signals'
+scale (``error_relative``: sewing 1.6e-10, roller table 8e-11); a figure that is small beside
+its signal's scale (a mean torque of 0.11 N m on a shaft whose torque swings by more) moves
+further relative to itself: up to 9.4e-10 measured over four OpenBLAS kernel families
+(Haswell, Sandybridge, Nehalem, Prescott) against these figures, made on another machine.
+A change of the model moves them by 1e-6 or more.
 """
 
 import math
@@ -20,7 +28,7 @@ from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, check_timing, run_
                                       sweep_scene)
 
 CFG = SolverConfig()       # auto, as the CLI runs it
-REL = 1e-9
+REL = 1e-8
 
 
 def report(out: Outcome) -> dict:
@@ -92,7 +100,9 @@ def test_roller_table_figures(roller_table, key, expected):
     # A roller's torque mean is a shaft stiffness times a small difference of two angles of
     # ~30 rad: rounding moves it by 3e-9 of itself (measured: 19.99983192 N m at the default
     # 10,001 samples, 19.99983186 at 4,001 and 8,001; the same run before the Taylor
-    # matrices of switching.Mode gave 19.99983188): pinned to 1e-8, the rest to REL.
+    # matrices of switching.Mode gave 19.99983188; with the angles re-based every revolution,
+    # 19.9998318850 under OpenBLAS Haswell and 19.9998318848 under Prescott): this stored
+    # figure carries the older runs' rounding, so 1e-8, the rest to REL.
     rel = 1e-8 if key[-1].startswith("torque_") and key[0] == "rollers" else REL
     assert roller_table.result.extra["events"] == 1
     assert report(roller_table)[key] == pytest.approx(expected, rel=rel)
@@ -156,7 +166,13 @@ def test_sweep_rows_and_columns():
     header, rows = sweep.header(), sweep.rows()
     assert header[:3] == ["C4_N_m_per_rad", "main_speed_mean_rad_per_s", "main_speed_amplitude_rad_per_s"]
     single = run_scene(scene, dict(values, C4=180.0), CFG)
-    assert rows[1][1:] == pytest.approx([v for _, v in single.columns()], rel=1e-12)
+    # the same inputs through the same code, but not bit for bit: the same products on arrays
+    # at other addresses take other BLAS paths (7e-12 of a torque mean under OpenBLAS Haswell).
+    # To the method's error (the run's estimate: 5e-11 of its scale; a torque mean of 0.011 N m
+    # sits several times below its signal's swing): 1e-9. The neighbouring point differs by far more.
+    assert single.result.error_relative < 1e-10          # what the tolerance below is made of
+    assert rows[1][1:] == pytest.approx([v for _, v in single.columns()], rel=1e-9)
+    assert rows[0][1:] != pytest.approx(rows[1][1:], rel=1e-6)
 
 
 def test_parse_assignments_and_sweep_points():

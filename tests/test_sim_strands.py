@@ -135,7 +135,11 @@ def test_a_strand_without_pretension_takes_up_from_rest():
     nodes = [Inertia("a", 0.01), Inertia("b", 0.01)]
     net = Network(nodes, [], [Load("a", -0.5)], strands=[Strand("chain", "a", "b", 0.05, 0.05, 1e6, 0.0)])
     r = simulate(net, 0.5, 501, SolverConfig("exact"))
-    assert r.extra["slack_time"]["chain"] == 0.0
+    # taut throughout: undamped, the force comes back to zero at every swing, and whether
+    # rounding lets it dip below zero for an instant there is the BLAS kernel's (none under
+    # OpenBLAS Haswell, 1.2e-8 s under Nehalem, Sandybridge and Prescott). A real slack spell
+    # lasts a good part of the 9 ms swing; 1 us is 1e-4 of one
+    assert r.extra["slack_time"]["chain"] == pytest.approx(0.0, abs=1e-6)
     # angular momentum: equal radii and inertias, so the mean speed is T t / (Ja + Jb) exactly
     assert_allclose(0.5 * (r["omega_a"] + r["omega_b"]), 0.5 * r.t / 0.02, atol=1e-9)
     assert r["F_chain"].max() == pytest.approx(2 * 0.5 / 2 / 0.05, rel=1e-3)

@@ -17,10 +17,18 @@ def run(*args):
 
 @pytest.mark.parametrize("args", [("sewing",), ("roller-table",), ("drive", "conveyor"), ("drive", "roller_table")])
 def test_default_runs_pass_every_check(args):
+    # issue 26: the conveyor's window (3.5 s) and the roller table's (4.5 s) start before their
+    # slowest pole has decayed to 1e-3 (7.6 % and 0.8 % of it left): the settling check says so
+    # and names the window needed. Lengthening the defaults (conveyor 4.5 s of 6 s, roller table
+    # 5.25 s of 6.75 s pass) moves the figures the README quotes: left to the README's rework.
     res = ok(run(*args, "--json"))
     obj = json.loads(res.stdout)
-    assert warnings(res) == [] and obj["warnings"] == []
-    assert obj["checks"] and all(c["verdict"] == "pass" for c in obj["checks"])
+    settling = [c for c in obj["checks"] if c["key"] == "window_settled" and c["verdict"] == "FAIL"]
+    expected = 0 if args == ("sewing",) else 1
+    assert len(settling) == expected
+    assert warnings(res) == obj["warnings"] and len(obj["warnings"]) == expected
+    assert all(w.startswith("transient") or "window" in w for w in obj["warnings"])
+    assert obj["checks"] and all(c["verdict"] == "pass" for c in obj["checks"] if c not in settling)
 
 
 def test_linear_axis_default_warns_of_its_slack_span():
@@ -45,7 +53,9 @@ def test_twenty_rollers_fail_the_chain_and_the_motor():
     assert checks["strand_strength"]["value"]["value"] == pytest.approx(30.1e3, rel=2e-3)
     assert "11 of 40 strands exceed theirs" in checks["strand_strength"]["rule"]
     assert checks["motor_mean_torque"]["verdict"] == "FAIL"
-    assert len(warnings(res)) == 3 and warnings(res) == obj["warnings"]
+    # and the window starts before the stalled drive's slowest pole has decayed (issue 26)
+    assert checks["window_settled"]["verdict"] == "FAIL"
+    assert len(warnings(res)) == 4 and warnings(res) == obj["warnings"]
 
 
 def test_strict_turns_failures_into_exit_1_and_writes_nothing(tmp_path):
@@ -55,8 +65,8 @@ def test_strict_turns_failures_into_exit_1_and_writes_nothing(tmp_path):
     res = run("roller-table", "--set", "roller_load=2000N*m", "--strict", "--csv", str(csv_path))
     assert res.exit_code == 1
     lines = res.stderr.splitlines()
-    assert lines[-1].startswith("Error: --strict: 3 checks fail (strand force, motor mean torque, motor peak torque)")
-    assert len(lines) == 4
+    assert lines[-1].startswith("Error: --strict: 4 checks fail (strand force, motor mean torque, motor peak torque")
+    assert len(lines) == 5
     assert all(line.startswith("warning: ") for line in lines[:-1])
     assert not csv_path.exists()
     assert ok(run("sewing", "--strict", "--csv", str(csv_path)))

@@ -1147,10 +1147,12 @@ class Run:
                 seg += 1
                 continue
             mode = self.cache.get(taut, seg, net.piece_time(seg, self.starts, self.t_end))
-            need = self.steps + (t_stop - t_cur) / mode.h
+            # counted in bottom steps: a stiff ladder takes fewer, but squares its way up from one
+            # (2^K of them), and a ladder some 40 levels tall overflows (a 60 km shaft)
+            need = self.steps + (t_stop - t_cur) / mode.L
             if need > MAX_STEPS:
                 raise SimulationError(
-                    f"method {self.method}: the run needs about {need:.3g} internal steps of {mode.h:.3g} s (its "
+                    f"method {self.method}: the run needs about {need:.3g} internal steps of {mode.L:.3g} s (its "
                     f"stiffest part), more than {MAX_STEPS:,}; a stiffness or a damping many decades above the "
                     "rest? Check the inputs, shorten the run, or make a very stiff coupling rigid")
             t_new, z, e = self.advance(mode, z, t_cur, t_stop)

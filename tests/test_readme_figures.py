@@ -549,7 +549,7 @@ FIGURES = [
     F("roller-table overrun", "the return strand carries the force (4.3 kN)", "4.3",
       J("strands/sprocket3-drive/force_max", 1e-3)),
     F("roller-table overrun", "the motor brakes at -4.8 N m", "-4.8", J("motor/torque_mean")),
-    F("roller-table 20", "--set rollers=20 # any number 1..200 (20: 69 switches)", "69", J("events")),
+    F("roller-table 20", "--set rollers=20 # any number 1..200 (20: 69 switches; overloads the chain)", "69", J("events")),
     # simulate linear-axis
     # (2.8e-13 to 2.9e-13 over four OpenBLAS kernel families)
     F("linear-axis", "error estimate 3e-13 m/s on the carriage speed", "3e-13", J("error_estimate")),

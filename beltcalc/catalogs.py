@@ -277,7 +277,9 @@ def read_toml(path: Path, what: str = "catalog file") -> dict:
         if size > MAX_FILE_BYTES:
             raise CatalogError(f"{shown}: {size} bytes; a {what} has at most {MAX_FILE_BYTES} bytes")
         with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+            raw = fh.read()
+        # a byte-order mark (Windows editors save one) is no part of the TOML
+        data = tomllib.loads(raw.decode("utf-8-sig"))
     except FileNotFoundError:
         raise CatalogError(f"{what} {shown} does not exist") from None
     except tomllib.TOMLDecodeError as exc:

@@ -253,10 +253,11 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
     else:
         if not best:
             top = max(candidates, key=lambda c: c.rated_power)
-            raise InputError(f"no chain in the catalog carries {required / 1e3:.4g} kW at "
-                             f"{inp.speed / RPM:.6g} rpm on {inp.teeth_small} teeth (the strongest, {top.chain.name}, "
-                             f"is rated {top.rated_power / 1e3:.4g} kW); use more teeth, a faster shaft or more strands",
-                             param="power")
+            given = "`torque` x `speed`" if inp.torque is not None else "`power`"
+            raise InputError(f"no chain in the catalog carries {required / 1e3:.4g} kW ({given}) at "
+                             f"{inp.speed / RPM:.6g} rpm (`speed`) on {inp.teeth_small} teeth (the "
+                             f"strongest, {top.chain.name}, is rated {top.rated_power / 1e3:.4g} kW); use more teeth, "
+                             "a faster shaft or more strands")
         chosen = min(best.values(), key=lambda c: (c.chain.pitch, c.chain.strands))
     checks = chain_checks(chosen, required)
     warnings = [c.warning() for c in failures(checks)]

@@ -122,7 +122,9 @@ def _read(text: str, si_unit: str, display: str | None):
         units = reg.parse_units(unit) if unit else reg.parse_units("")
     except Exception as exc:  # pint raises many types for bad text
         raise QuantityError(f"cannot read {quote(text)} as a quantity; give {example}") from exc
-    magnitude = float(number) if number else 1.0
+    if not number:     # 'kg' is not 1 kg: a unit alone is a value forgotten
+        raise QuantityError(f"{quote(text)} has no number; give a number and its unit, e.g. '10 {unit}'")
+    magnitude = float(number)
     if math.isinf(magnitude) and "inf" not in number.lower():
         raise QuantityError(f"{quote(text)}: the number is too large (at most about 1e308); give {example}")
     return magnitude, units, number

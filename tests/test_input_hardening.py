@@ -76,7 +76,6 @@ def test_arithmetic_does_not_hang_the_console_script(tmp_path):
     ("1e-3 kg*m^2", "kg*m^2", 1e-3),
     ("4 s^-2", "1/s^2", 4.0),
     ("0.5g0", "m/s^2", 4.903325),
-    ("kg", "kg", 1.0),
 ])
 def test_unit_powers_and_scientific_notation_still_read(text, unit, expected):
     assert parse_quantity(text, unit) == pytest.approx(expected, rel=1e-12)
@@ -246,19 +245,31 @@ def test_a_nan_tolerance_is_refused(option, value, out):
 
 # --- 8. temporaries of a killed write are cleaned by the next write -------------------------
 
-def test_a_later_write_removes_stale_temporaries_of_its_target(out):
+def test_a_later_write_removes_stale_temporaries_of_the_writer(out):
+    # issue 27 R13: a temporary a SIGKILL left is removed by the next write into its folder
+    # once an hour old; one a writer still holds (locked), a younger one, another program's
+    # file of a like name and a file of another pattern stay
+    import fcntl
+
     from beltcalc.cli.output import STALE_TMP_AGE, write_atomic
 
     old = time.time() - STALE_TMP_AGE - 60
-    stale = out / ".out.csv.k3j9x_2a.tmp.csv"          # left by a SIGKILL before the rename
-    fresh = out / ".out.csv.abcdefgh.tmp.csv"          # a concurrent writer's, still in use
-    other = out / ".other.csv.k3j9x_2a.tmp.csv"        # another target's
-    for p in (stale, fresh, other):
+    stale = out / ".beltcalc-k3j9x_2a.tmp"          # left by a SIGKILL before the rename
+    fresh = out / ".beltcalc-abcdefgh.tmp"          # a concurrent writer's, still young
+    held = out / ".beltcalc-held_0001.tmp"          # old, but a running writer holds its lock
+    other = out / ".out.csv.k3j9x_2a.tmp.csv"       # not this writer's pattern
+    like = out / ".beltcalc-k3j9x_2a.tmp.bak"       # not exactly its pattern
+    for p in (stale, fresh, held, other, like):
         p.write_text("half")
-    os.utime(stale, (old, old))
-    os.utime(other, (old, old))
-    write_atomic(out / "out.csv", "a,b\n")
-    assert sorted(p.name for p in out.iterdir()) == sorted(["out.csv", fresh.name, other.name])
+    for p in (stale, held, other, like):
+        os.utime(p, (old, old))
+    fd = os.open(held, os.O_RDONLY)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    try:
+        write_atomic(out / "out.csv", "a,b\n")
+    finally:
+        os.close(fd)
+    assert sorted(p.name for p in out.iterdir()) == sorted(["out.csv", fresh.name, held.name, other.name, like.name])
     assert (out / "out.csv").read_text() == "a,b\n"
 
 

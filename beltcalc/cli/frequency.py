@@ -14,7 +14,7 @@ import math
 import click
 
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION
-from beltcalc.cli.options import FrequencyParam, OutputPath, catalog_option, output_options, quantity_option
+from beltcalc.cli.options import DriveRef, FrequencyParam, OutputPath, catalog_option, output_options, quantity_option
 from beltcalc.cli.output import (console, dumps, format_number, inputs_json, require_matplotlib, table_csv, write_atomic,
                                  wrote)
 
@@ -26,7 +26,7 @@ def drive_options(func):
     """The argument and options the three commands share: ``[DRIVE]``, ``--set``,
     ``--catalog``, ``--plot``, ``--json``, ``--csv``."""
     for opt in reversed([
-        click.argument("drive", default="sewing", required=False, metavar="[DRIVE]"),
+        click.argument("drive", default="sewing", required=False, metavar="[DRIVE]", type=DriveRef()),
         click.option("--set", "assignments", multiple=True, metavar="ELEMENT.KEY=QUANTITY",
                      help="Change a value of the drive file, e.g. --set 23.stiffness=190N*m/rad (repeatable)."),
         catalog_option,

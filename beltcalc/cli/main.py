@@ -5,7 +5,9 @@ matplotlib. Every :class:`~beltcalc.errors.BeltcalcError` becomes one line on st
 and its exit code here (1: physically impossible input, catalog or solver failure;
 2: usage: bad text, wrong unit, unknown name). ``--debug`` shows the traceback instead.
 Python warnings are not shown (``--debug`` shows them): what a user must know is a check's
-``warning:`` line.
+``warning:`` line. An interrupt (Ctrl-C) is ``Error: interrupted``, exit 130. The files a
+command writes are put in place only once it has finished (:mod:`beltcalc.cli.writer`):
+a failing or interrupted command leaves none.
 
 The line names the option that sets the value the error is about: a library parameter
 ``center_distance`` is ``--center-distance``; a scene's value (``scope="scene"``) is named
@@ -137,6 +139,10 @@ def _keep_freed_memory() -> None:
 _keep_freed_memory_done = False
 
 
+INTERRUPTED = "interrupted"
+INTERRUPTED_EXIT = 130      # 128 + SIGINT, as a shell reports a command Ctrl-C ended
+
+
 class _Failure(click.ClickException):
     def __init__(self, message: str, exit_code: int):
         super().__init__(message)
@@ -169,9 +175,26 @@ class BeltcalcGroup(click.Group):
         _keep_freed_memory()
         return command
 
-    def invoke(self, ctx):
+    def make_context(self, info_name, args, parent=None, **extra):
         try:
-            return super().invoke(ctx)
+            return super().make_context(info_name, args, parent, **extra)
+        except KeyboardInterrupt:
+            raise _Failure(INTERRUPTED, INTERRUPTED_EXIT) from None
+
+    def invoke(self, ctx):
+        from beltcalc.cli.writer import output_session
+
+        try:
+            # files are staged while the command runs and put in place only once it has
+            # finished: an error or an interrupt leaves none (beltcalc.cli.writer)
+            with output_session() as files:
+                rv = super().invoke(ctx)
+                files.commit()
+            return rv
+        except KeyboardInterrupt:   # Ctrl-C: one line, the shell's code for SIGINT, no file
+            if ctx.meta.get("beltcalc.debug"):
+                raise
+            raise _Failure(INTERRUPTED, INTERRUPTED_EXIT) from None
         except BeltcalcError as exc:
             if ctx.meta.get("beltcalc.debug"):
                 raise
@@ -207,9 +230,9 @@ class BeltcalcGroup(click.Group):
         except click.ClickException as exc:
             click.echo(f"Error: {one_line(exc.format_message())}", err=True)
             code = exc.exit_code
-        except click.exceptions.Abort:
-            click.echo("Aborted.", err=True)
-            code = 1
+        except click.exceptions.Abort:     # an interrupt click saw first
+            click.echo(f"Error: {INTERRUPTED}", err=True)
+            code = INTERRUPTED_EXIT
         return code
 
 

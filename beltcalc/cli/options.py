@@ -47,12 +47,38 @@ class QuantityParam(click.ParamType):
 
 class Tolerance(click.FloatRange):
     """A float in a range that is also a number: ``click.FloatRange`` lets ``nan`` through
-    (every comparison with it is false), and a solver with an ``nan`` tolerance never ends."""
+    (every comparison with it is false), and a solver with an ``nan`` tolerance never ends.
+    The one type of every tolerance option (``--rtol``, ``--atol``, ``--error-tol``): a bad
+    one is a usage error (exit 2) alike."""
 
     def convert(self, value, param, ctx):
         value = super().convert(value, param, ctx)
         if math.isnan(value):
             self.fail(f"{value!r} is not a number; give one in {self._describe_range()}", param, ctx)
+        return value
+
+
+class DriveRef(click.ParamType):
+    """A drive: a drive file's path or a built-in drive's name, kept as text (the library
+    resolves it). What can be neither is a usage error (exit 2) here: an empty text (which
+    a path would read as the current folder) and a folder."""
+
+    name = "drive"
+
+    def convert(self, value, param, ctx):
+        from beltcalc.units import quote
+
+        if not isinstance(value, str):
+            return value
+        if value.strip() == "":
+            self.fail(f"{quote(value)} is no drive; give a drive file (e.g. 'my_drive.toml') or a built-in "
+                      "drive's name (e.g. 'sewing')", param, ctx)
+        try:
+            folder = os.path.isdir(value)
+        except (OSError, ValueError):      # a NUL, a name too long: the library says what it is
+            folder = False
+        if folder:
+            self.fail(f"{quote(value, 200)} is a folder, not a drive file", param, ctx)
         return value
 
 
@@ -74,12 +100,16 @@ class FrequencyParam(QuantityParam):
 
 
 class OutputPath(click.ParamType):
-    """A file to write: its folder must exist and be writable, its name not too long for
-    the file system (checked before any work)."""
+    """A file to write, checked before any work: its name not too long for the file system;
+    not a folder; a link followed to its target; a new file or one replaced in a folder that
+    exists and is writable, a file written in place (a FIFO, a device, a file with hard
+    links) writable itself (:func:`beltcalc.cli.writer.resolve_target`)."""
 
     name = "path"
 
     def convert(self, value, param, ctx) -> Path:
+        from beltcalc.cli.writer import resolve_target
+        from beltcalc.errors import OutputError
         from beltcalc.units import quote
 
         if isinstance(value, Path):
@@ -94,22 +124,28 @@ class OutputPath(click.ParamType):
             limit = os.pathconf(path.parent if str(path.parent) else ".", "PC_NAME_MAX")
         except (OSError, ValueError):
             limit = 255
-        # the temporary file beside it (write_atomic) is '.NAME.' + 8 + '.tmp' + suffix long
-        longest = max(limit - 14 - len(os.fsencode(path.suffix)), 1)
-        if len(os.fsencode(path.name)) > longest:
+        if len(os.fsencode(path.name)) > limit:
             self.fail(f"{quote(value)}: the file name is {len(os.fsencode(path.name))} bytes long; "
-                      f"at most {longest} here", param, ctx)
+                      f"at most {limit} here", param, ctx)
         if len(os.fsencode(str(path.resolve(strict=False)))) >= 4096:
             self.fail(f"{quote(value, 200)}: the path is too long (at most 4095 bytes)", param, ctx)
         folder = path.parent if str(path.parent) else Path(".")
         try:
-            if path.is_dir():
+            if os.path.isdir(path):
                 self.fail(f"{quote(value, 200)} is a folder, not a file", param, ctx)
             if not folder.is_dir():
                 self.fail(f"{quote(value, 200)}: the folder {quote(str(folder), 200)} does not exist", param, ctx)
-            if not os.access(folder, os.W_OK | os.X_OK):
+            try:
+                target = resolve_target(path)
+            except OutputError as exc:
+                self.fail(f"{quote(value, 200)}: {exc.message.partition(': ')[2]}", param, ctx)
+            folder = target.path.parent
+            if target.how == "in place":
+                if not os.access(target.path, os.W_OK):
+                    self.fail(f"{quote(value, 200)} exists and is not writable", param, ctx)
+            elif not os.access(folder, os.W_OK | os.X_OK):
                 self.fail(f"{quote(value, 200)}: the folder {quote(str(folder), 200)} is not writable", param, ctx)
-            if path.exists() and not os.access(path, os.W_OK):
+            elif target.st is not None and not os.access(target.path, os.W_OK):
                 self.fail(f"{quote(value, 200)} exists and is not writable", param, ctx)
         except OSError as exc:   # a folder name too long, a loop of links, ...
             self.fail(f"{quote(value, 200)}: {exc.strerror or exc}", param, ctx)

@@ -1,4 +1,4 @@
-"""Rendering of results: rich tables on stdout, JSON, CSV written atomically.
+"""Rendering of results: rich tables on stdout, JSON, CSV (written by :mod:`beltcalc.cli.writer`).
 
 A result is a list of :class:`~beltcalc.report.Row` (SI value, SI unit, display unit),
 grouped in sections. The same rows give the table, the JSON object and the CSV file, so
@@ -11,17 +11,17 @@ import csv
 import io
 import json
 import math
-import os
-import tempfile
 import time
-from pathlib import Path
 from contextlib import contextmanager
 from typing import Callable, Iterable, Iterator, Sequence
 
 import click
 
+from beltcalc.cli.writer import STALE_TMP_AGE, announce, write_file
 from beltcalc.errors import OutputError
 from beltcalc.report import Row
+
+write_atomic = write_file     # the name the commands use: every file goes through the one writer
 
 
 def require_matplotlib() -> None:
@@ -177,8 +177,9 @@ def emit_warnings(warnings: Iterable[str], checks=(), strict: bool = False) -> N
 
 
 def wrote(path) -> None:
-    """Say on stderr that ``path`` was written (after --csv or --plot)."""
-    click.echo("wrote " + "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(path)), err=True)
+    """Say on stderr that ``path`` was written (after --csv or --plot): once the command's
+    files are in place (:mod:`beltcalc.cli.writer`)."""
+    announce(path)
 
 
 def rows_csv(rows: Iterable[Row]) -> str:
@@ -192,81 +193,6 @@ def table_csv(header: Sequence[str], rows: Iterable[Sequence]) -> str:
     writer.writerow(header)
     writer.writerows(rows)
     return buf.getvalue()
-
-
-STALE_TMP_AGE = 600.0   # seconds after which a temporary file of write_atomic is left over
-
-
-def _temporary_pattern(path: Path):
-    import re
-
-    return re.compile(re.escape(f".{path.name}.") + r"[A-Za-z0-9_]{8}" + re.escape(".tmp" + path.suffix))
-
-
-def remove_stale_temporaries(path: Path, age: float = STALE_TMP_AGE, limit: int = 100) -> int:
-    """Remove the temporary files :func:`write_atomic` left beside ``path`` (a killed run)
-    older than ``age`` seconds; at most ``limit`` of them, ignoring any it cannot remove.
-    Returns how many it removed."""
-    import time
-
-    pattern, removed = _temporary_pattern(Path(path)), 0
-    try:
-        entries = os.scandir(Path(path).parent)
-    except OSError:
-        return 0
-    with entries:
-        for entry in entries:
-            if removed >= limit:
-                break
-            if not pattern.fullmatch(entry.name):
-                continue
-            try:
-                if entry.is_file(follow_symlinks=False) and \
-                        time.time() - entry.stat(follow_symlinks=False).st_mtime > age:
-                    os.unlink(entry.path)
-                    removed += 1
-            except OSError:
-                pass
-    return removed
-
-
-def write_atomic(path: Path, content: str | Callable[[Path], None]) -> None:
-    """Write ``content`` to ``path`` through a temporary file in the same folder and a rename.
-
-    ``content`` is text, or a function that writes the temporary file given its path
-    (e.g. a figure's ``savefig``). A reader never sees a half-written file, and on any
-    failure the temporary file is removed and ``path`` is left as it was.
-
-    The temporary file is hidden beside ``path``: ``.NAME.XXXXXXXX.tmpSUFFIX`` (e.g.
-    ``.out.csv.k3j9x_2a.tmp.csv``). A process killed outright (SIGKILL, power loss)
-    between writing it and the rename can leave it behind; the next write to the same
-    ``path`` removes every such temporary of ``path`` older than :data:`STALE_TMP_AGE`
-    (10 minutes: never one a concurrent writer is still using).
-    """
-    path = Path(path)
-    remove_stale_temporaries(path)
-    try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp" + path.suffix)
-    except OSError as exc:
-        raise OutputError(f"cannot write {path}: {exc.strerror}") from None
-    try:
-        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
-            if isinstance(content, str):
-                fh.write(content)
-            fh.flush()
-            os.fsync(fh.fileno())
-        if not isinstance(content, str):
-            content(Path(tmp))
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        if isinstance(exc, OSError):
-            raise OutputError(f"cannot write {path}: {exc.strerror or exc}") from None
-        raise
 
 
 @contextmanager

@@ -12,7 +12,7 @@ from __future__ import annotations
 import click
 
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION, option_name
-from beltcalc.cli.options import OutputPath, Tolerance, catalog_option, output_options
+from beltcalc.cli.options import DriveRef, OutputPath, Tolerance, catalog_option, output_options
 from beltcalc.cli.output import (console, display_unit, display_value, format_number, inputs_json, print_table, progress, spinner, dumps, emit_warnings, wrote,
                                  require_matplotlib, table_csv, write_atomic)
 from beltcalc.errors import render
@@ -415,7 +415,7 @@ def common_options(spec: Scene | None):
             click.option("--atol", type=Tolerance(1e-16, 1, min_open=True), default=1e-10, show_default=True),
             click.option("--max-events", type=click.IntRange(1, 10_000_000), default=20_000, show_default=True,
                          help="Bound on strand switches (a chain chattering near zero tension)."),
-            click.option("--error-tol", type=click.FloatRange(0, 1, min_open=True, max_open=True), default=1e-6,
+            click.option("--error-tol", type=Tolerance(0, 1, min_open=True, max_open=True), default=1e-6,
                          show_default=True,
                          help="Largest error estimate accepted, relative to the signal's scale; above it auto "
                               "refines, then falls back to Radau, else the run fails."),
@@ -537,7 +537,7 @@ def _linear_axis_command() -> click.Command:
 
 
 @simulate.command("drive")
-@click.argument("file", metavar="FILE")
+@click.argument("file", metavar="FILE", type=DriveRef())
 @common_options(None)
 @catalog_option
 def drive(file, catalog_paths, **kw):

@@ -237,6 +237,10 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
     else:
         raise InputError("give the power (`power`) or the torque (`torque`) on the small sprocket", param="power")
     required = inp.design_factor * inp.service_factor * power
+    if not math.isfinite(required):     # a torque of 1e308 N m: no figure of the drive is a number
+        given = "`torque` x `speed`" if inp.power is None else "`power`"
+        raise InputError(f"the drive's power ({given}, x n_d K_s for the rating) is beyond a float (over 1e308 W); "
+                         "give a value in a physical range", param="torque" if inp.power is None else "power")
     candidates = tuple(check_chain(c, inp, power, required) for c in chains)
     if not candidates:
         raise InputError("no chain to choose from (check `series` and `strands`)", param="series")

@@ -8,6 +8,7 @@ given) has verdict ``"n/a"`` and says why in ``reason``; it never fails silently
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 
@@ -60,11 +61,17 @@ class Check:
         return "pass" if u <= 1.0 + 1e-12 else "FAIL"
 
     def warning(self) -> str:
-        """The one-line warning of a failed check."""
+        """The one-line warning of a failed check (no figure beyond a float printed as ``inf``).
+
+        >>> Check("m", "belt mass", 0.14, 1e-320, "kg").warning()
+        'belt mass FAILS: 0.14 kg must be <= 1e-320 kg (utilisation beyond any finite figure; )'
+        """
         op = "<=" if self.kind == "max" else ">="
         unit = "" if self.unit in ("", "1") else f" {self.unit}"
-        return (f"{self.name} FAILS: {self.value:.4g}{unit} must be {op} {self.limit:.4g}{unit} "
-                f"(utilisation {self.utilisation:.0%}; {self.rule})")
+        u = self.utilisation
+        used = f"utilisation {u:.0%}" if u is not None and math.isfinite(u) else "utilisation beyond any finite figure"
+        return (f"{self.name} FAILS: {figure(self.value)}{unit} must be {op} {figure(self.limit)}{unit} "
+                f"({used}; {self.rule})")
 
     def to_dict(self) -> dict:
         """JSON-ready: values ``{"value", "unit"}``, utilisation and margin, verdict, rule
@@ -74,6 +81,19 @@ class Check:
                 "kind": self.kind, "margin": {"value": self.margin, "unit": self.unit},
                 "utilisation": {"value": self.utilisation, "unit": "1"}, "verdict": self.verdict,
                 "rule": self.rule, **({"reason": self.reason} if self.reason else {})}
+
+
+def figure(value: float | None, spec: str = ".4g") -> str:
+    """``value`` for a sentence: formatted by ``spec``; one beyond a float (or none) in words.
+
+    >>> figure(2688.04), figure(float("inf")), figure(float("nan"))
+    ('2688', 'a figure beyond a float', 'no figure')
+    """
+    if value is None or math.isnan(value):
+        return "no figure"
+    if math.isinf(value):
+        return "a figure beyond a float" if value > 0 else "a figure below any float"
+    return format(value, spec)
 
 
 def failures(checks) -> list[Check]:

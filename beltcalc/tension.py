@@ -136,7 +136,8 @@ def _finite(value: float, what: str, param: str, unit: str) -> float:
     arithmetic can hold: an :class:`InputError` naming it."""
     if math.isfinite(value):
         return value
-    raise InputError(f"{what} is {value:g} {unit}, beyond what a float holds; give a value in a physical range",
+    shown = "not a number" if math.isnan(value) else f"{'over' if value > 0 else 'below'} {'' if value > 0 else '-'}1e308 {unit}"
+    raise InputError(f"{what} is {shown}, beyond what a float holds; give a value in a physical range",
                      param=param)
 
 

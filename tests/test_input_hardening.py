@@ -6,6 +6,7 @@ the value and what is allowed; no traceback, no hang, no file left behind.
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -328,3 +329,108 @@ def test_an_allocation_too_large_is_one_line_exit_1(monkeypatch, out):
         raise MemoryError("Unable to allocate 7.28 TiB for an array")
     monkeypatch.setattr(beltcalc.catalogs, "load_catalog", huge)
     fails(out, 1, ["catalog", "list"], ["not enough memory", "7.28 TiB", "fewer --samples"])
+
+
+# --- issue 27: a unit without a number, messages that name what was given, no inf ----------
+
+@pytest.mark.parametrize("args, fragments", [
+    # R6: each was read as 1 of the unit, exit 0
+    (["tension", "--mass", "kg"], ["--mass", "'kg' has no number", "give a number and its unit, e.g. '10 kg'"]),
+    (["chain", "--speed", "rpm"], ["--speed", "'rpm' has no number", "e.g. '10 rpm'"]),
+    (["simulate", "sewing", "--set", "C4=N*m/rad"], ["--set", "'N*m/rad' has no number", "e.g. '10 N*m/rad'"]),
+    (["simulate", "sewing", "--sweep", "C4=N*m/rad:N*m/rad:2"], ["--sweep", "has no number"]),
+    (["simulate", "sewing", "--steady-state-only", "--vary", "C4=normal(N*m/rad,5%)", "--runs", "3"],
+     ["--vary", "'N*m/rad' has no number"]),
+    (["motor-size", "--sweep", "accel=rad/s^2:rad/s^2:2"], ["--sweep", "'rad/s^2' has no number"]),
+])
+def test_a_unit_without_a_number_is_refused_at_every_entry(args, fragments, out):
+    line = fails(out, 2, args, fragments)
+    assert "--power" not in line
+
+
+def test_a_unit_without_a_number_in_a_drive_file_names_the_key(tmp_path, out):
+    from beltcalc.catalogs import builtin_dir
+
+    text = (builtin_dir() / "drives" / "friswell_5_disks.toml").read_text()
+    assert 'inertia = "3.5e-3 kg*m^2"' in text
+    path = tmp_path / "drive.toml"
+    path.write_text(text.replace('inertia = "3.5e-3 kg*m^2"', 'inertia = "kg*m^2"', 1))
+    fails(out, 1, ["modes", str(path)], ["drive.toml", "disk1", "inertia", "'kg*m^2' has no number"])
+
+
+def test_unit_reader_refuses_a_unit_alone():
+    with pytest.raises(QuantityError, match="'kg' has no number; give a number and its unit, e.g. '10 kg'"):
+        parse_quantity("kg", "kg")
+    with pytest.raises(QuantityError, match="'rpm' has no number"):
+        parse_quantity("rpm", "rad/s")
+    assert parse_quantity("5/s", "1/s") == pytest.approx(5.0, rel=1e-15)
+
+
+@pytest.mark.parametrize("drive", ["", " ", "."])
+def test_an_empty_drive_or_a_folder_is_a_usage_error(drive, out):
+    # R10: `beltcalc modes ''` was "Error: .: cannot be read (Is a directory)", exit 1
+    fails(out, 2, ["modes", drive], ["DRIVE", "drive" if drive.strip() == "" else "folder"])
+
+
+def test_a_folder_as_drive_file_is_a_usage_error(tmp_path, out):
+    fails(out, 2, ["simulate", "drive", str(tmp_path)], ["FILE", "is a folder, not a drive file"])
+
+
+def test_the_error_tolerance_is_a_tolerance(out):
+    # R12: `--error-tol nan` was exit 1 ("error tolerance nan is not allowed"), --rtol nan exit 2
+    fails(out, 2, [*SEWING, "--error-tol", "nan"], ["--error-tol", "nan is not a number", "0<x<1"])
+    fails(out, 2, [*SEWING, "--error-tol", "2"], ["--error-tol", "0<x<1"])
+
+
+@pytest.mark.parametrize("args, given", [(["--speed", "1rpm"], "(--power) at 1 rpm (--speed)"),
+                                         (["--speed", "1rpm", "--torque", "1e6N*m"], "(--torque x --speed)")])
+def test_no_chain_names_what_was_given(args, given, out):
+    # R11: `chain --speed ...` blamed --power (the default the user never gave)
+    line = fails(out, 1, ["chain", *args], ["no chain in the catalog carries", given])
+    assert not line.startswith("Error: --power:")
+
+
+def test_no_inf_in_a_warning():
+    # R4: "utilisation inf%"
+    result = run("tension", "--mass", "1e-320kg")
+    assert result.exit_code == 0, result.output
+    assert "inf" not in result.output.replace("info", "")
+    assert "belt mass on the span FAILS" in result.stderr and "beyond any finite figure" in result.stderr
+
+
+def test_a_torque_beyond_a_float_is_one_line_naming_it(out):
+    # R4: `chain --chain 10B-1 --torque 1e308N*m` printed "carry inf kW", "inf W must be <= 2688 W", exit 0
+    fails(out, 1, ["chain", "--chain", "10B-1", "--torque", "1e308N*m"], ["--torque", "beyond a float"])
+
+
+def test_a_figure_beyond_a_float_is_an_empty_csv_field(out):
+    # R5: the CSV held 'inf' where the table shows '-' and the JSON null
+    result = run("tension", "--span-length", "1e-320m", "--csv", str(out / "o.csv"))
+    assert result.exit_code == 0, result.output
+    rows = dict(line.split(",", 1) for line in (out / "o.csv").read_text().splitlines())
+    assert rows["span_frequency"] == ",Hz"
+    assert rows["bearing_torque"] == ",N m"                       # none: empty too (was 'None')
+    assert "inf" not in (out / "o.csv").read_text() and "None" not in (out / "o.csv").read_text()
+    shown = run("tension", "--span-length", "1e-320m", "--json")
+    assert json.loads(shown.stdout)["span_frequency"]["value"] is None
+
+
+def test_a_study_in_which_no_run_succeeds_exits_1(out):
+    # R8: every run failed, exit 0 (the same values as --sweep exit 1)
+    args = ["simulate", "sewing", "--steady-state-only", "--vary", "C4=uniform(-300N*m/rad,-100N*m/rad)",
+            "--runs", "20"]
+    fails(out, 1, args, ["none of the 20 runs succeeded", "the first (run 0)", "--vary C4", ">= 0 N*m/rad"])
+
+
+def test_a_drive_file_with_a_byte_order_mark_reads(tmp_path):
+    from beltcalc.catalogs import builtin_dir
+
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + (builtin_dir() / "drives" / "friswell_5_disks.toml").read_bytes())
+    plain = run("modes", "friswell_5_disks", "--json")
+    with_bom = run("modes", str(path), "--json")
+    assert with_bom.exit_code == 0 and plain.exit_code == 0, with_bom.output
+    a, b = json.loads(plain.stdout), json.loads(with_bom.stdout)
+    # the same drive, the same answer: Friswell et al. example 9.7.1, 81.21 ... 536.36 Hz
+    assert b["undamped_frequencies"]["value"] == pytest.approx(a["undamped_frequencies"]["value"], rel=1e-12)
+    assert b["undamped_frequencies"]["value"] == pytest.approx([81.21, 141.21, 378.95, 536.36], abs=0.01)

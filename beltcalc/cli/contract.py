@@ -15,6 +15,7 @@ import click
 from click.core import ParameterSource
 
 from beltcalc.cli.main import option_name
+from beltcalc.checks import figure
 from beltcalc.errors import render
 from beltcalc.report import Row
 
@@ -94,8 +95,8 @@ def check_rows(checks) -> list[Row]:
         else:
             op = "<=" if c.kind == "max" else ">="
             unit = "" if c.unit == "1" else " " + c.unit.replace("*", " ")
-            note = (f"pass: {c.value:.4g} {op} {c.limit:.4g}{unit}" if c.verdict == "pass"
-                    else f"FAIL: {c.value:.4g}{unit}, must be {op} {c.limit:.4g}{unit}")
+            note = (f"pass: {figure(c.value)} {op} {figure(c.limit)}{unit}" if c.verdict == "pass"
+                    else f"FAIL: {figure(c.value)}{unit}, must be {op} {figure(c.limit)}{unit}")
         rows.append(Row(f"check_{c.key}", c.name, c.utilisation, "1", "percent", digits=3, note=note))
     return rows
 

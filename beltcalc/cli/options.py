@@ -127,7 +127,11 @@ class OutputPath(click.ParamType):
         if len(os.fsencode(path.name)) > limit:
             self.fail(f"{quote(value)}: the file name is {len(os.fsencode(path.name))} bytes long; "
                       f"at most {limit} here", param, ctx)
-        if len(os.fsencode(str(path.resolve(strict=False)))) >= 4096:
+        try:
+            resolved = path.resolve(strict=False)
+        except RuntimeError:                 # a loop of links (Python 3.11)
+            self.fail(f"{quote(value, 200)}: a loop of symbolic links", param, ctx)
+        if len(os.fsencode(str(resolved))) >= 4096:
             self.fail(f"{quote(value, 200)}: the path is too long (at most 4095 bytes)", param, ctx)
         folder = path.parent if str(path.parent) else Path(".")
         try:

@@ -182,16 +182,37 @@ def wrote(path) -> None:
     announce(path)
 
 
+def csv_cell(value) -> str:
+    """A value as a CSV field: a float as ``repr`` (every digit), none or one that is not
+    finite as an empty field (what the table shows as "-" and the JSON as null).
+
+    >>> csv_cell(0.1), csv_cell(None), csv_cell(float("inf")), csv_cell("inf"), csv_cell("AT10")
+    ('0.1', '', '', '', 'AT10')
+    """
+    if value is None:
+        return ""
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else ""
+    if isinstance(value, str):
+        return "" if value.strip().lower() in _NOT_FINITE else value
+    return str(value)
+
+
+_NOT_FINITE = frozenset({"inf", "-inf", "+inf", "nan", "-nan", "infinity", "-infinity", "none"})
+
+
 def rows_csv(rows: Iterable[Row]) -> str:
     """CSV text with the header ``quantity,value,unit`` (SI values)."""
-    return table_csv(["quantity", "value", "unit"], ([r.key, repr(r.value), r.unit] for r in rows))
+    return table_csv(["quantity", "value", "unit"], ([r.key, r.value, r.unit] for r in rows))
 
 
 def table_csv(header: Sequence[str], rows: Iterable[Sequence]) -> str:
+    """CSV text: ``header``, then ``rows``, each cell by :func:`csv_cell` (no ``inf``, ``nan``
+    or ``None`` in a file: an empty field)."""
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(header)
-    writer.writerows(rows)
+    writer.writerows([csv_cell(x) for x in row] for row in rows)
     return buf.getvalue()
 
 

@@ -195,8 +195,13 @@ def _render_sweep(spec: Scene, sweep, title: str, as_json, csv_path, plot_path, 
     """A sweep: warnings (each once, with where it was given), then the CSV, the plot, and
     the JSON or a table of the scene's chosen columns with labels and display units."""
     columns, table = sweep.column_info(), sweep.rows()
-    emit_warnings(sweep.warnings(), sweep.failed_checks(), strict)
     errors = sweep.errors()
+    if table and len(errors) >= len(table):          # no run succeeded: no sweep to report
+        from beltcalc.errors import InputError
+
+        k, reason = errors[0]
+        raise InputError(f"none of the {len(table):,} runs succeeded; the first (run {k}): {reason}")
+    emit_warnings(sweep.warnings(), sweep.failed_checks(), strict)
     if strict and errors:
         from beltcalc.errors import InputError
 

@@ -112,6 +112,12 @@ def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts,
                 csv_fh.close()
             if pq is not None:
                 pq.close()
+        if summary.runs and summary.errors >= summary.runs:      # no run succeeded: no study to report
+            first = ""
+            if summary.reasons:
+                reason, (_, run) = summary.reasons[0]
+                first = f"; the first (run {run}): {_reason(reason, render, to_option, names)}"
+            raise InputError(f"none of the {summary.runs:,} runs succeeded{first}")
         warnings = _warnings(summary, render, to_option, names)
         emit_warnings(warnings, [c for _, c in summary.checks.values()], strict)
         if strict:

@@ -11,7 +11,10 @@ missing folder). Every invocation must end in (:func:`problems`):
 - on failure exactly one stderr line, ``Error: ...``; on success only ``warning:`` and
   ``wrote`` lines there;
 - with ``--json`` and exit 0, strict JSON on stdout (no NaN, no Infinity);
-- no file left after a failing run, and never a temporary ``.NAME.*.tmp*`` file.
+- no file left after a failing run, and never a temporary ``.NAME.*.tmp*`` file;
+- an output path that is a link, a FIFO, a 0600 file, a hard-linked file, a file in a
+  read-only folder or ``/dev/null`` (:func:`output_path_cases`): written at the link's
+  target or in place, its kind, mode and links kept, unchanged when the command fails.
 
 The strategies are shared with ``benchmarks/fuzz.py``, which runs 10,000 invocations on
 demand and writes ``benchmarks/results/fuzz.md``. The runs here are derandomized (no
@@ -59,6 +62,7 @@ class Case:
     args: list[str]
     files: dict[str, bytes] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    output: str | None = None       # what --csv names, one of OUTPUT_KINDS (set up by run())
 
     def __repr__(self) -> str:
         return f"Case({self.command!r})"
@@ -97,6 +101,7 @@ def run(case: Case, folder: Path, timeout: float = TIMEOUT) -> Outcome:
     folder.mkdir(parents=True, exist_ok=True)
     for name, data in case.files.items():
         (folder / name).write_bytes(data)
+    prepared = _prepare_output(case.output, folder) if case.output else None
     before = _files(folder)
     runner = CliRunner()
     cwd = os.getcwd()
@@ -111,14 +116,17 @@ def run(case: Case, folder: Path, timeout: float = TIMEOUT) -> Outcome:
         os.chdir(folder)
         result = runner.invoke(cli, case.args, catch_exceptions=True)
     except Hang:
+        if prepared is not None:
+            _output_problems(case.output, folder, None, prepared)
         return Outcome(None, [f"hang (over {timeout:g} s)"], time.perf_counter() - start)
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
         os.chdir(cwd)
     seconds = time.perf_counter() - start
+    extra = _output_problems(case.output, folder, result.exit_code, prepared) if prepared is not None else []
     after = _files(folder)
-    return Outcome(result.exit_code, problems(case, result, after - before, after), seconds,
+    return Outcome(result.exit_code, problems(case, result, after - before, after) + extra, seconds,
                    result.stdout, result.stderr)
 
 
@@ -366,6 +374,136 @@ def _odd_names(suffix: str):
                             "x" * 300 + suffix, "x" * 240 + suffix, f".hidden{suffix}", f"out\n{suffix}",
                             f"o\u202eut{suffix}", ".", "..", "", f"out{suffix}/", f"{'d/' * 3}out{suffix}",
                             "a" * 5000 + suffix, f"out{suffix}.tmp", "out"])
+
+
+# what an output path may be (issue 27, R1): the writer must write a link at its target, a
+# FIFO and a device in place, keep a file's mode and hard links, and leave the old content
+# and no temporary whenever the command fails
+OUTPUT_KINDS = ["symlink", "dangling symlink", "symlink to a folder", "fifo", "0600 file", "hard link",
+                "read-only folder", "dev null", "loop of links"]
+_OLD = b"old,content\n"
+
+
+def _prepare_output(kind: str, folder: Path) -> dict:
+    """Make what ``--csv out.csv`` (``ro/out.csv``, ``os.devnull``) names be ``kind``; what
+    :func:`_output_problems` needs afterwards."""
+    import threading
+
+    out = folder / "out.csv"
+    state: dict = {}
+    if kind == "symlink":
+        (folder / "t.csv").write_bytes(_OLD)
+        out.symlink_to("t.csv")
+    elif kind == "dangling symlink":
+        out.symlink_to("new.csv")
+    elif kind == "symlink to a folder":
+        (folder / "d").mkdir()
+        out.symlink_to("d")
+    elif kind == "fifo":
+        os.mkfifo(out)
+        got: list[bytes] = []
+        reader = threading.Thread(target=lambda: got.append(out.read_bytes()), daemon=True)
+        reader.start()
+        state.update(reader=reader, got=got)
+    elif kind == "0600 file":
+        out.write_bytes(_OLD)
+        out.chmod(0o600)
+    elif kind == "hard link":
+        out.write_bytes(_OLD)
+        os.link(out, folder / "other.csv")
+    elif kind == "read-only folder":
+        (folder / "ro").mkdir()
+        (folder / "ro" / "out.csv").write_bytes(_OLD)
+        (folder / "ro").chmod(0o555)
+    elif kind == "dev null":
+        state["rdev"] = os.stat(os.devnull).st_rdev
+    elif kind == "loop of links":
+        out.symlink_to("loop.csv")
+        (folder / "loop.csv").symlink_to("out.csv")
+    return state
+
+
+def _output_problems(kind: str, folder: Path, code: int | None, state: dict) -> list[str]:
+    """What the run did wrong to the path it wrote (``code``: its exit code; None: a hang)."""
+    import stat as st
+
+    out = folder / "out.csv"
+    found = []
+
+    def written(path: Path) -> bool:     # new content (any command's CSV), not the old one
+        data = path.read_bytes()
+        return data != _OLD and data.count(b"\n") >= 1 and b"," in data.split(b"\n")[0]
+
+    if kind == "symlink":
+        if not out.is_symlink():
+            found.append("symlink replaced")
+        elif written(folder / "t.csv") != (code == 0):
+            found.append("symlink target not written on success" if code == 0 else "symlink target changed on failure")
+    elif kind == "dangling symlink":
+        if not out.is_symlink():
+            found.append("dangling symlink replaced")
+        elif (folder / "new.csv").exists() != (code == 0):
+            found.append("dangling symlink's target not made" if code == 0 else "file left after failure")
+    elif kind == "symlink to a folder":
+        if code not in (None, 2) or list((folder / "d").iterdir()) or not out.is_symlink():
+            found.append("symlink to a folder not refused")
+    elif kind == "fifo":
+        if not os.path.exists(out) or not st.S_ISFIFO(os.lstat(out).st_mode):
+            found.append("fifo replaced")
+        else:
+            try:      # a reader still waiting (nothing was written): end it
+                os.close(os.open(out, os.O_WRONLY | os.O_NONBLOCK))
+            except OSError:
+                pass
+            state["reader"].join(10)
+            data = state["got"][0] if state["got"] else b""
+            if (code == 0) != (b"," in data):
+                found.append("fifo not written on success" if code == 0 else "fifo written on failure")
+    elif kind == "0600 file":
+        if st.S_IMODE(out.stat().st_mode) != 0o600:
+            found.append("0600 file's mode changed")
+        if written(out) != (code == 0):
+            found.append("file not written on success" if code == 0 else "file changed on failure")
+    elif kind == "hard link":
+        other = folder / "other.csv"
+        if out.stat().st_ino != other.stat().st_ino or out.stat().st_nlink != 2:
+            found.append("hard link broken")
+        elif written(other) != (code == 0):
+            found.append("hard-linked file not written on success" if code == 0 else "file changed on failure")
+    elif kind == "read-only folder":
+        (folder / "ro").chmod(0o755)
+        names = sorted(p.name for p in (folder / "ro").iterdir())
+        if names != ["out.csv"]:
+            found.append("temporary file left")
+        if os.geteuid() != 0 and (code != 2 or written(folder / "ro" / "out.csv")):
+            found.append("read-only folder not refused")
+    elif kind == "dev null":
+        now = os.stat(os.devnull)
+        if not st.S_ISCHR(now.st_mode) or now.st_rdev != state["rdev"]:
+            found.append("/dev/null replaced")
+    elif kind == "loop of links":
+        if code not in (None, 2) or not (out.is_symlink() and (folder / "loop.csv").is_symlink()):
+            found.append("loop of links not refused")
+    return found
+
+
+def _output_argument(kind: str) -> str:
+    return {"read-only folder": "ro/out.csv", "dev null": os.devnull}.get(kind, "out.csv")
+
+
+@st.composite
+def output_path_cases(draw):
+    """A quick command whose ``--csv`` names a link, a FIFO, a 0600 file, a hard-linked file,
+    a file in a read-only folder or ``/dev/null``; one time in three with an option that
+    may make it fail (then nothing may change)."""
+    kind = draw(st.sampled_from(OUTPUT_KINDS))
+    path = draw(st.sampled_from([("tension",), ("chain",), ("belt-drive",), ("catalog", "list")]))
+    args = list(path)
+    if chance(draw, 1 / 3):
+        args += draw(options_of(path, 2))
+    case = Case(args + (["--json"] if draw(st.booleans()) else []) + ["--csv", _output_argument(kind)],
+                notes=[f"--csv is a {kind}"], output=kind)
+    return case
 
 
 # --- commands ------------------------------------------------------------------------------
@@ -771,11 +909,12 @@ STRATEGIES = {
     "modes": frequency_cases("modes"),
     "response": frequency_cases("response"),
     "campbell": frequency_cases("campbell"),
+    "output paths": output_path_cases(),
 }
 # examples per command in the suite (a few hundred in all)
 EXAMPLES = {"tension": 40, "belt-drive": 30, "chain": 30, "motor-size": 40, "catalog": 25,
             "simulate sewing": 25, "simulate roller-table": 25, "simulate linear-axis": 25,
-            "simulate drive": 25, "modes": 20, "response": 20, "campbell": 20}
+            "simulate drive": 25, "modes": 20, "response": 20, "campbell": 20, "output paths": 30}
 
 
 # --- the tests: one per command ------------------------------------------------------------
@@ -807,6 +946,7 @@ test_fuzz_simulate_drive = _fuzz("simulate drive")
 test_fuzz_modes = _fuzz("modes")
 test_fuzz_response = _fuzz("response")
 test_fuzz_campbell = _fuzz("campbell")
+test_fuzz_output_paths = _fuzz("output paths")
 
 
 # --- regressions: each a single command the fuzzing (or the issue) found failing -----------

@@ -290,3 +290,15 @@ def test_ctrl_c_is_one_line_exit_130_and_no_file(tmp_path):
     assert proc.returncode == 130, (stdout, stderr)
     assert stderr == "Error: interrupted\n" and stdout == ""
     assert list(tmp_path.iterdir()) == []
+
+
+def test_dev_stdout_to_a_pipe_is_written_in_place(tmp_path):
+    # /dev/stdout -> /proc/self/fd/1 -> 'pipe:[...]', a link no path names: written through the
+    # link (was: replaced, as root, by a regular file; with the link followed: "no such file")
+    proc = subprocess.run([sys.executable, "-m", "beltcalc.cli.main", "tension", "--json", "--csv", "/dev/stdout"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == "wrote /dev/stdout\n"
+    json_text, _, csv_text = proc.stdout.partition("quantity,value,unit\n")
+    assert json_text.rstrip().endswith("}") and "tension_peak," in csv_text
+    assert os.path.islink("/dev/stdout") and list(tmp_path.iterdir()) == []

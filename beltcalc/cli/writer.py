@@ -25,7 +25,7 @@ interrupt (Ctrl-C) before that removes every temporary: no file is written, none
 Outside a session (the library, a test) :func:`write_file` writes at once.
 
 Temporary files are named ``.beltcalc-XXXXXXXX.tmp`` (8 random characters), in the
-target's folder (for a FIFO or device: the system's temporary folder, ``$TMPDIR``). A
+target's folder (for a file written in place: the system's temporary folder, ``$TMPDIR``). A
 process killed outright (SIGKILL, a power cut) between creating one and the rename leaves
 it behind; every later write into that folder removes those of its files of that exact
 pattern that are older than :data:`STALE_TMP_AGE` (an hour), owned by the same user and
@@ -75,10 +75,6 @@ class Target:
     how: str
     st: os.stat_result | None = None
 
-    @property
-    def regular(self) -> bool:
-        return self.st is None or stat.S_ISREG(self.st.st_mode)
-
 
 def resolve_target(path) -> Target:
     """How :func:`write_file` writes ``path`` (see the module's docstring), or an
@@ -98,6 +94,15 @@ def resolve_target(path) -> Target:
                 st = None
             if st is not None and stat.S_ISLNK(st.st_mode):
                 raise OutputError(f"cannot write {shown(path)}: a loop of symbolic links")
+            if st is None:
+                try:
+                    st = os.stat(path)
+                except FileNotFoundError:
+                    st = None
+                if st is not None and not stat.S_ISDIR(st.st_mode):
+                    # a link the kernel follows but no path names (/dev/stdout -> /proc/self/fd/1
+                    # -> 'pipe:[...]'): opened through the link itself
+                    return Target(path, "in place", st)
         if st is None:
             folder = real.parent
             if not folder.is_dir():
@@ -261,7 +266,7 @@ def _stage(path, content) -> _Staged:
     :class:`~beltcalc.errors.OutputError` with nothing left behind."""
     path = Path(path)
     target = resolve_target(path)
-    folder = target.path.parent if target.regular else Path(tempfile.gettempdir())
+    folder = target.path.parent if target.how != "in place" else Path(tempfile.gettempdir())
     remove_stale_temporaries(folder)
     try:
         fd, name = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=TEMP_SUFFIX, dir=folder)

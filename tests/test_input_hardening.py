@@ -434,3 +434,11 @@ def test_a_drive_file_with_a_byte_order_mark_reads(tmp_path):
     # the same drive, the same answer: Friswell et al. example 9.7.1, 81.21 ... 536.36 Hz
     assert b["undamped_frequencies"]["value"] == pytest.approx(a["undamped_frequencies"]["value"], rel=1e-12)
     assert b["undamped_frequencies"]["value"] == pytest.approx([81.21, 141.21, 378.95, 536.36], abs=0.01)
+
+
+def test_an_error_line_never_prints_inf(out):
+    # R4, R11: `simulate sewing --set U12=1e-200` said "an input at inf rad/s turns inf rad";
+    # what a user typed, quoted, stays as typed
+    line = fails(out, 1, ["simulate", "sewing", "--set", "U12=1e-200"], ["over 1e308"])
+    assert "inf" not in line and "--drive" not in line
+    fails(out, 2, ["tension", "--mass", "inf kg"], ["'inf kg'", "not a finite number"])

@@ -228,7 +228,12 @@ class BeltcalcGroup(click.Group):
             rv = super().main(args, prog_name, complete_var, standalone_mode=False, **extra)
             code = rv if isinstance(rv, int) else 0
         except click.ClickException as exc:
-            click.echo(f"Error: {one_line(exc.format_message())}", err=True)
+            message = exc.format_message()
+            if isinstance(exc, _Failure):      # the library's line: no figure printed as inf
+                from beltcalc.cli.output import no_inf
+
+                message = no_inf(message)
+            click.echo(f"Error: {one_line(message)}", err=True)
             code = exc.exit_code
         except click.exceptions.Abort:     # an interrupt click saw first
             click.echo(f"Error: {INTERRUPTED}", err=True)

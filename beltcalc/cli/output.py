@@ -11,6 +11,7 @@ import csv
 import io
 import json
 import math
+import re
 import time
 from contextlib import contextmanager
 from typing import Callable, Iterable, Iterator, Sequence
@@ -110,14 +111,33 @@ def unit_text(unit: str) -> str:
     return " ".join(unit.split()).replace(" ", "*")
 
 
+_NOT_FINITE_WORD = re.compile(r"(?<![\w.'\"])([-+]?)(inf(?:inity)?|nan)(?![\w'\"])", re.IGNORECASE)
+
+
+def no_inf(text: str) -> str:
+    """``text`` (a message, a warning) with a figure that is not finite, as Python formats it,
+    said in words: no ``inf`` or ``nan`` printed. What a user typed, quoted, stays as typed.
+
+    >>> no_inf("an input at inf rad/s turns -inf rad; 'inf kg' is refused; nan N; info")
+    "an input at over 1e308 rad/s turns below -1e308 rad; 'inf kg' is refused; not a number N; info"
+    """
+    def words(m) -> str:
+        if m.group(2).lower() == "nan":
+            return "not a number"
+        return "below -1e308" if m.group(1) == "-" else "over 1e308"
+    return _NOT_FINITE_WORD.sub(words, text)
+
+
 def finite(obj):
     """``obj`` with every NaN or infinity replaced by None (JSON has neither), recursively;
-    every ``unit`` entry spelled by :func:`unit_text`."""
+    every ``unit`` entry spelled by :func:`unit_text`; no ``inf`` in a warning's text."""
     if isinstance(obj, float):
         return obj if math.isfinite(obj) else None
     if isinstance(obj, dict):
         if isinstance(obj.get("unit"), str):
             obj = {**obj, "unit": unit_text(obj["unit"])}
+        if isinstance(obj.get("warnings"), (list, tuple)):
+            obj = {**obj, "warnings": [no_inf(w) if isinstance(w, str) else w for w in obj["warnings"]]}
         return {k: finite(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [finite(v) for v in obj]
@@ -169,7 +189,7 @@ def emit_warnings(warnings: Iterable[str], checks=(), strict: bool = False) -> N
     from beltcalc.errors import InputError
 
     for w in warnings:
-        click.echo(f"warning: {w}", err=True)
+        click.echo(f"warning: {no_inf(w)}", err=True)
     failed = failures(checks)
     if strict and failed:
         names = list(dict.fromkeys(c.name for c in failed))

@@ -94,12 +94,12 @@ def print_table(title: str, sections: Sequence[tuple[str, Sequence[Row]]],
     for i, (name, rows) in enumerate(sections):
         table.add_row(f"[bold]{name}[/bold]", "", "", "", end_section=False)
         for j, row in enumerate(rows):
-            table.add_row("  " + row.label, display_value(row), display_unit(row), row.note,
+            table.add_row("  " + row.label, display_value(row), display_unit(row), no_inf(row.note),
                           end_section=(j == len(rows) - 1 and i < len(sections) - 1))
     out = console()
     out.print(table)
     for note in notes:
-        out.print(note, highlight=False, markup=False)
+        out.print(no_inf(note), highlight=False, markup=False)
 
 
 def unit_text(unit: str) -> str:

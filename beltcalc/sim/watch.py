@@ -29,7 +29,7 @@ import numpy as np
 
 from beltcalc.sim.linalg import expm
 from beltcalc.sim.scalar import bounded_minimum
-from beltcalc.sim.switching import _orbit
+from beltcalc.sim.switching import SPARSE_SIZE, _orbit
 
 GRID = 257          # points per refinement interval before the local optimum is polished
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
@@ -55,6 +55,14 @@ class Watch:
         """Attach to a run: rows in its balanced coordinates, empty records."""
         self.run = run
         self.O = self.rows * run.S[None, :]
+        # a large network's signal rows are sparse (a speed reads one state, a torque or a
+        # strand force four): the per-step products with every point go through them in
+        # O(nonzeros) (a 200-roller chain: 1,000 signals over 1,605 states, 6,000 nonzeros)
+        self.Op = self.O
+        if run.S.size >= SPARSE_SIZE:
+            from scipy import sparse
+
+            self.Op = sparse.csr_matrix(self.O)
         # the run takes free rigid rotations out of the angles as it goes (Run.rebase): a
         # signal that sees them (an angle) is not watched; the samples give its extremes
         rigid = getattr(run, "rigid", np.zeros((0, run.S.size)))
@@ -66,12 +74,16 @@ class Watch:
         self.best = {side: np.full((nw, k), -np.inf) for side in (1, -1)}     # side * value, largest seen
         self.u = {side: np.full((nw, k, C), -np.inf) for side in (1, -1)}     # each candidate's bound
         self.dropped = {side: np.full((nw, k), -np.inf) for side in (1, -1)}  # the largest bound let go
-        self.z = {side: np.zeros((nw, k, C, size)) for side in (1, -1)}
+        # each candidate's step point, and the step point before it (the stiff ladder reads
+        # forward only: the peak may lie in the step that ends at the candidate's point), as rows
+        # of one pool of points: the signals whose candidates enter at one step share its row
+        # (a start-up raises the best value of every signal at every block's end)
+        self.zi = {side: np.zeros((nw, k, C), dtype=np.int64) for side in (1, -1)}
+        self.zi_prev = {side: np.zeros((nw, k, C), dtype=np.int64) for side in (1, -1)}
         self.t = {side: np.zeros((nw, k, C)) for side in (1, -1)}
-        # the step point before each candidate's (the stiff ladder reads forward only: the peak
-        # may lie in the step that ends at the candidate's point)
-        self.z_prev = {side: np.zeros((nw, k, C, size)) for side in (1, -1)}
         self.t_prev = {side: np.full((nw, k, C), np.nan) for side in (1, -1)}
+        self.pool = np.zeros((min(64, 4 * nw * k * C), size))
+        self.pooled = 0
         self._last: tuple[np.ndarray, float, int] | None = None
         self.key = {side: np.zeros((nw, k, C), dtype=np.int64) for side in (1, -1)}   # index into self.keys
         self.keys: list[tuple] = []          # mode keys (pattern, piece, time): the cache rebuilds the mode
@@ -85,7 +97,7 @@ class Watch:
     def values(self, taut: tuple[bool, ...], Z: np.ndarray) -> np.ndarray:
         """(signals, rows of Z): the signals at the states Z in the strand pattern ``taut``
         (signal-major: the extremes are reductions along contiguous rows)."""
-        v = self.O @ Z.T
+        v = self.Op @ Z.T
         if self.strand.size and (self.strand >= 0).any():
             v[self._slack(taut)] = 0.0
         return v
@@ -151,7 +163,10 @@ class Watch:
         if O2 is None:
             while len(self._second) >= KEPT_MODES:      # a chain makes thousands of strand patterns
                 self._second.pop(next(iter(self._second)))
-            O2 = self._second[mode.key] = np.asarray((mode.Ft.T @ (mode.Ft.T @ self.O.T)).T)
+            O2 = (self.Op @ mode.Ft) @ mode.Ft          # sparse where the rows and F~ are
+            if not mode.sparse and hasattr(O2, "toarray"):
+                O2 = O2.toarray()
+            self._second[mode.key] = O2
         return O2
 
     def _halves(self, mode, Z: np.ndarray, times: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray]:
@@ -171,7 +186,7 @@ class Watch:
                 full[:] = False
             if not full.all():
                 zs[~full] = mode.at(Z[:-1][~full], dt[~full] / 2)
-            return self.O @ zs.T, O2 @ zs.T
+            return self.Op @ zs.T, O2 @ zs.T
         key = (mode.key, spacing)
         hit = self._half.get(key)
         if hit is None:
@@ -269,8 +284,9 @@ class Watch:
         np.put_along_axis(keep, order[:, :C], True, axis=1)
         lost = np.where(keep, -np.inf, allu).max(axis=1)
         self.dropped[side][w, rows] = np.maximum(self.dropped[side][w, rows], lost)
-        others = np.setdiff1d(np.arange(u.shape[0]), rows)
-        if others.size and np.isfinite(cu[others]).any():
+        others = np.ones(u.shape[0], dtype=bool)
+        others[rows] = False
+        if others.any() and np.isfinite(cu[others]).any():
             self.dropped[side][w, others] = np.maximum(self.dropped[side][w, others], cu[others].max(axis=1))
         free = np.argsort(keep[:, :C], axis=1, kind="stable")         # the old slots let go, first
         enter = np.argsort(~keep[:, C:], axis=1, kind="stable")       # the new steps kept, first
@@ -280,20 +296,55 @@ class Watch:
         new = enter[r, j]
         step = s0 + idx[sig, new]
         self.u[side][w, sig, slot] = cu[sig, new]
-        self.z[side][w, sig, slot] = Z[step]
         self.t[side][w, sig, slot] = times[step]
         self.piece[side][w, sig, slot] = piece
         self.key[side][w, sig, slot] = key
-        inner = step > 0
-        self.z_prev[side][w, sig[inner], slot[inner]] = Z[step[inner] - 1]
-        self.t_prev[side][w, sig[inner], slot[inner]] = times[step[inner] - 1]
-        edge = ~inner
+        # the rows Z[step] and Z[step - 1] (Z[-1]: the last point of the block before), each once
+        edge = step == 0
+        last = edge.any() and self._last is not None and self._last[2] == piece
+        need = np.unique(np.concatenate([step, step[~edge] - 1]))
+        at = self._add(Z[need], self._last[0][None] if last else None)
+        self.zi[side][w, sig, slot] = at[np.searchsorted(need, step)]
+        self.zi_prev[side][w, sig[~edge], slot[~edge]] = at[np.searchsorted(need, step[~edge] - 1)]
+        self.t_prev[side][w, sig[~edge], slot[~edge]] = times[step[~edge] - 1]
         if edge.any():
-            if self._last is not None and self._last[2] == piece:
-                self.z_prev[side][w, sig[edge], slot[edge]] = self._last[0]
+            if last:
+                self.zi_prev[side][w, sig[edge], slot[edge]] = at[-1]
                 self.t_prev[side][w, sig[edge], slot[edge]] = self._last[1]
             else:
                 self.t_prev[side][w, sig[edge], slot[edge]] = np.nan
+
+    def _add(self, rows: np.ndarray, extra: np.ndarray | None) -> np.ndarray:
+        """Put ``rows`` (then ``extra``, if any) into the pool of candidates' points; their
+        indices. A full pool first drops the points no candidate refers to any more, then grows:
+        it holds at most about four times the points that live candidates refer to."""
+        new = rows if extra is None else np.vstack([rows, extra])
+        if self.pooled + new.shape[0] > self.pool.shape[0]:
+            self._compact()          # then grow unless half of it is free (each compaction costs a pass)
+            if 2 * (self.pooled + new.shape[0]) > self.pool.shape[0]:
+                grown = np.zeros((max(2 * self.pool.shape[0], 2 * (self.pooled + new.shape[0])), self.pool.shape[1]))
+                grown[:self.pooled] = self.pool[:self.pooled]
+                self.pool = grown
+        at = np.arange(self.pooled, self.pooled + new.shape[0])
+        self.pool[at] = new
+        self.pooled += new.shape[0]
+        return at
+
+    def _compact(self) -> None:
+        """Keep only the pool's points that a live candidate (a finite bound) refers to."""
+        used = np.zeros(self.pooled, dtype=bool)
+        for side in (1, -1):
+            live = np.isfinite(self.u[side])
+            used[self.zi[side][live]] = True
+            used[self.zi_prev[side][live & np.isfinite(self.t_prev[side])]] = True
+        keep = np.flatnonzero(used)
+        remap = np.zeros(self.pooled, dtype=np.int64)
+        remap[keep] = np.arange(keep.size)
+        self.pool[:keep.size] = self.pool[keep]
+        self.pooled = keep.size
+        for side in (1, -1):
+            self.zi[side] = remap[self.zi[side]]
+            self.zi_prev[side] = remap[self.zi_prev[side]]
 
     def finish(self) -> None:
         """Polish every candidate on the exact polynomial around its point: the polynomials of
@@ -302,6 +353,7 @@ class Watch:
         lies above the extreme found, :attr:`uncertain` holds by how much (else 0)."""
         run = self.run
         ends = run.piece_ends + [run.t_end]
+        self._terms: dict[tuple, np.ndarray] = {}
         slots, values = [], []                      # (window, side, signal), the value so far
         jobs: list[tuple[int, list[float], float, float]] = []     # (slot, coefficients, a, b)
         for w, start in enumerate(self.windows):
@@ -334,32 +386,34 @@ class Watch:
             gap = max(0.0, float(self.dropped[side][w, k]) - value)
             lo_u, hi_u = self.uncertain.get(key, (0.0, 0.0))
             self.uncertain[key] = (lo_u, gap) if side == 1 else (gap, hi_u)
+        self._terms = {}
 
     def _candidate(self, run, ends, start, w, side, k, c, slot, values, jobs) -> None:
         """The polish jobs of candidate c of (window w, side, signal k): its polynomial either
         side of its step point, inside its strand-mode piece and the window."""
         mode = run.cache.get(*self.keys[self.key[side][w, k, c]])
         tz, p = self.t[side][w, k, c], self.piece[side][w, k, c]
-        z = self.z[side][w, k, c]
+        zi = int(self.zi[side][w, k, c])
+        z = self.pool[zi]
         walked = self.walks(mode)          # its records are bottom-step points
         reach = mode.L if walked else mode.h
         lo_t = max(start, self.piece_start[p], tz - reach)
         hi_t = min(run.t_end, ends[p], tz + reach)
         if not hi_t > lo_t or (self.strand[k] >= 0 and not mode.taut[self.strand[k]]):
             return
-        starts = [(z, tz)]
+        starts = [(zi, tz)]
         t_prev = self.t_prev[side][w, k, c]
         if mode.K and np.isfinite(t_prev):     # the stiff ladder reads forward only
-            starts.insert(0, (self.z_prev[side][w, k, c], t_prev))
+            starts.insert(0, (int(self.zi_prev[side][w, k, c]), t_prev))
         if walked:           # the polynomial either side of the best bottom-step point
             a, b = max(-1.0, (lo_t - tz) / mode.L), min(1.0, (hi_t - tz) / mode.L)
-            jobs.append((slot, side * (mode.taylor(z) @ self.O[k]), a, b))
+            jobs.append((slot, side * (self._taylor(mode, zi) @ self.O[k]), a, b))
             return
         if mode.K and 2 ** (mode.K + 1) <= LADDER_POINTS:
             # a stiff mode's step points are 2^K bottom steps apart: its bottom-step
             # points over [t0, tz + h] by the bottom step expm(F~ L), the best of
             # them, then its polynomial either side, as on a mode without a ladder
-            z0, t0 = starts[0]
+            z0, t0 = self.pool[starts[0][0]], starts[0][1]
             count = int(math.ceil((hi_t - t0) / mode.L * (1 + 1e-12)))
             Z = _orbit(mode.doubling(mode.K), z0, count + 1)
             times = t0 + np.arange(count + 1) * mode.L
@@ -371,13 +425,22 @@ class Watch:
                 a, b = max(-1.0, (lo_t - times[j]) / mode.L), min(1.0, (hi_t - times[j]) / mode.L)
                 jobs.append((slot, side * (mode.taylor(Z[j]) @ self.O[k]), a, b))
             return
-        for z0, t0 in starts:
+        for i0, t0 in starts:
             a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
             if mode.K == 0:      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
-                jobs.append((slot, side * (mode.taylor(z0) @ self.O[k]), a, b))
+                jobs.append((slot, side * (self._taylor(mode, i0) @ self.O[k]), a, b))
             else:                # a ladder too tall to walk step by step: a search on it
-                f = self._ladder(mode, z0, k, side)
+                f = self._ladder(mode, self.pool[i0], k, side)
                 values[slot] = max(values[slot], self._polish(f, max(a, 0.0), min(b, 1.0)))
+
+    def _taylor(self, mode, i: int) -> np.ndarray:
+        """The Taylor terms of ``mode`` at pool point i (kept while :meth:`finish` runs: the
+        candidates of many signals share a point)."""
+        key = (mode.key, i)
+        V = self._terms.get(key)
+        if V is None:
+            V = self._terms[key] = mode.taylor(self.pool[i])
+        return V
 
     @staticmethod
     def _polish(f, a: float, b: float) -> float:

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 import math
 import re
+from contextlib import contextmanager
+from typing import Callable, Iterable, Iterator
 
 _REF = re.compile(r"`([A-Za-z_][A-Za-z0-9_.]*)`")
 
@@ -55,6 +57,13 @@ class BeltcalcError(Exception):
 
 class InputError(BeltcalcError, ValueError):
     """Physically impossible input (negative mass, span shorter than a pitch, ...)."""
+
+
+class FloatRangeError(InputError):
+    """A value the inputs lead to (a stiffness over an inertia, a gear ratio squared, a
+    diameter to the fourth power) lies beyond the float range (1.8e308): no model can be
+    built on it. The message says what overflowed; :func:`blame` names the value a user
+    gave that did it."""
 
 
 class UnknownNameError(BeltcalcError, KeyError):
@@ -136,3 +145,77 @@ def require_range(
     else:
         allowed = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}{u}"
     raise InputError(f"{value:g}{u} is not allowed; it must be {allowed}", param=param)
+
+
+FLOAT_MAX = "1e308"          # how a message says the float range
+
+
+def _innermost(tb) -> str:
+    """The innermost beltcalc function of a traceback (``torsional_stiffness``), or ''."""
+    name = ""
+    while tb is not None:
+        if tb.tb_frame.f_globals.get("__name__", "").startswith("beltcalc"):
+            name = tb.tb_frame.f_code.co_name
+        tb = tb.tb_next
+    return name
+
+
+@contextmanager
+def float_range(what: str | Callable[[], str]) -> Iterator[None]:
+    """Inside: a float power or exponential beyond the float range (Python's
+    ``OverflowError``) is a :class:`FloatRangeError` saying that ``what`` overflows, and in
+    which function (``what`` may be a function of nothing giving the text).
+
+    >>> with float_range("the drive's model"):
+    ...     1e200 ** 2
+    Traceback (most recent call last):
+    ...
+    beltcalc.errors.FloatRangeError: the drive's model overflows a float (beyond 1e308 in SI units)
+    """
+    try:
+        yield
+    except OverflowError as exc:
+        where = _innermost(exc.__traceback__)
+        where = f" in {where}()" if where and where not in ("float_range", "<module>") else ""
+        what = what() if callable(what) else what
+        raise FloatRangeError(f"{what} overflows a float{where} (beyond {FLOAT_MAX} in SI units)") from None
+
+
+def blame(exc: FloatRangeError, changed: Iterable[str], probe: Callable[[str | None], None],
+          show: Callable[[str], str]) -> FloatRangeError:
+    """``exc`` about the one value a user changed that makes the model overflow.
+
+    ``probe(name)`` builds the model with ``name`` put back to its file's value (``None``:
+    with every value as given) and raises :class:`FloatRangeError` while it still overflows.
+    The first of ``changed`` whose value put back lets it build is the culprit: the error
+    comes back naming it (``param``, ``scope="scene"``: the command line says ``--set
+    NAME``) with its value (``show(name)``). Where the model with every value as given does
+    not overflow when only built (the overflow came later), or no single value is to blame,
+    ``exc`` comes back as it is.
+
+    >>> def probe(name):
+    ...     if name != "ratio":
+    ...         raise FloatRangeError("the mass matrix overflows a float")
+    >>> str(blame(FloatRangeError("the mass matrix overflows a float"), ["mass", "ratio"], probe, lambda n: "1e+200"))
+    'ratio: at 1e+200, the mass matrix overflows a float'
+    """
+    changed = list(changed)
+    if exc.param is not None or not changed:
+        return exc
+    try:
+        probe(None)
+    except FloatRangeError:
+        pass
+    except Exception:       # another problem first: not this one to name
+        return exc
+    else:
+        return exc
+    for name in changed:
+        try:
+            probe(name)
+        except FloatRangeError:
+            continue
+        except Exception:   # it builds past the overflow (and fails on something else): still the culprit
+            pass
+        return FloatRangeError(f"at {show(name)}, {exc.message}", param=name, scope="scene")
+    return exc

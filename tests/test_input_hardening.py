@@ -439,6 +439,47 @@ def test_a_drive_file_with_a_byte_order_mark_reads(tmp_path):
 def test_an_error_line_never_prints_inf(out):
     # R4, R11: `simulate sewing --set U12=1e-200` said "an input at inf rad/s turns inf rad";
     # what a user typed, quoted, stays as typed
-    line = fails(out, 1, ["simulate", "sewing", "--set", "U12=1e-200"], ["over 1e308"])
+    line = fails(out, 1, ["simulate", "sewing", "--set", "U12=1e-200"],
+                 ["--set U12: at 1e-200,", "frequency omega of load on 3 overflows a float (beyond 1e308 rad/s)"])
     assert "inf" not in line and "--drive" not in line
     fails(out, 2, ["tension", "--mass", "inf kg"], ["'inf kg'", "not a finite number"])
+
+
+@pytest.mark.parametrize("args, fragments", [
+    (["modes", "conveyor", "--set", "reducer.ratio=1e-299"],
+     ["Error: --set reducer.ratio: at 1e-299,", "1e+299 times as fast", "overflows a float"]),
+    (["modes", "conveyor", "--set", "output_shaft.diameter=1e100m"],
+     ["Error: --set output_shaft.diameter: at 1e+100 m,", "shaft 'output_shaft'", "overflows a float"]),
+    (["simulate", "roller-table", "--set", "stage1_ratio=1e200"],
+     ["Error: --set stage1_ratio: at 1e+200,", "overflows a float"]),
+    (["simulate", "linear-axis", "--set", "pulley_diameter=1e300m"],
+     ["Error: --set pulley_diameter: at 1e+300 m,", "overflows a float"]),
+    (["modes", "conveyor", "--set", "output_shaft.length=1e-310m"],
+     ["Error: --set output_shaft.length: at 1e-310 m,", "stiffness C of coupling output_shaft", "overflows a float"]),
+    (["simulate", "drive", "conveyor", "--set", "output_shaft.length=1e-310m"],
+     ["Error: --set output_shaft.length: at 1e-310 m,", "overflows a float"]),
+    (["modes", "sewing", "--set", "12.stiffness=1e300N*m/rad", "--set", "1.inertia=1e-300kg*m^2"],
+     ["Error: --set 12.stiffness: at 1e+300 N*m/rad,", "the stiffness on 1 over its inertia"]),
+])
+def test_an_overflow_names_the_value_set(args, fragments, out):
+    # R2: `internal error: OverflowError` from a float power (R11: the length named the built-in file)
+    line = fails(out, 1, args, fragments)
+    assert "internal error" not in line and "conveyor.toml" not in line and "inf" not in line
+
+
+def test_an_overflow_of_a_drive_files_own_value_names_the_file(tmp_path, out):
+    from beltcalc.catalogs import builtin_dir
+
+    text = (builtin_dir() / "drives" / "conveyor.toml").read_text()
+    path = tmp_path / "big.toml"
+    path.write_text(text.replace('ratio = 10', 'ratio = 1e-299', 1))
+    assert 'ratio = 1e-299' in path.read_text()
+    fails(out, 1, ["modes", str(path)], ["big.toml", "overflows a float"])
+
+
+def test_an_infinite_window_suggests_a_finite_one(tmp_path, out):
+    # "window = inf" suggested writing "inf s", which is refused too
+    path = tmp_path / "w.toml"
+    path.write_text('[drive]\nt_end = "1 s"\nwindow = inf\n[[node]]\nname = "a"\ninertia = "1 kg*m^2"\n')
+    line = fails(out, 1, ["modes", str(path)], ["window", "needs its unit", 'e.g. "1 s"'])
+    assert "inf s" not in line

@@ -26,7 +26,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from beltcalc.catalogs import read_toml, shown_path
-from beltcalc.errors import BeltcalcError, CatalogError, InputError
+from beltcalc.errors import BeltcalcError, CatalogError, FloatRangeError, InputError, blame, float_range
 
 SECTIONS = ("drive", "node", "coupling", "shaft", "gear", "belt_span", "chain_strand", "motor", "load")
 
@@ -335,7 +335,10 @@ class DriveFile:
         of the file's. Every value is converted and checked; the first problem is one
         :class:`DriveFileError` naming the element and key."""
         values = self._known(values)
-        b, net = self._assemble(values, catalog)
+        try:
+            b, net = self._assemble(values, catalog)
+        except FloatRangeError as exc:
+            raise self._blame(exc, values, catalog) from None
         t_end, samples, window = b.timing()
         drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
                       samples=samples, window=window, notes=b.notes, nodes=[n.name for n in net.nodes],
@@ -344,6 +347,23 @@ class DriveFile:
         if b.rigid:
             drive.notes += _rigid_notes(self, values, catalog, net, b.rigid)
         return drive
+
+    def _blame(self, exc: FloatRangeError, values: dict, catalog) -> BeltcalcError:
+        """An overflow of the drive built with ``values``: about the value set (``--set``)
+        that makes it (:func:`beltcalc.errors.blame`), else about the file."""
+        units = {p.name: p.unit for p in self.params()}
+
+        def probe(name):
+            self._assemble({k: v for k, v in values.items() if k != name}, catalog)
+
+        def show(name):
+            v = values[name]
+            v, unit = v if isinstance(v, tuple) else (v, units.get(name, ""))
+            unit = "" if unit in ("", "1", None) or "|" in unit else f" {unit}"
+            return f"{v:g}{unit}" if isinstance(v, (int, float)) else repr(v)
+
+        found = blame(exc, values, probe, show)
+        return found if found.param is not None else DriveFileError(f"{self.path}: {exc.message}")
 
     def network(self, values: dict | None = None, catalog=None):
         """Only the :class:`~beltcalc.sim.network.Network` of the drive (no timing, no notes):
@@ -367,16 +387,23 @@ class DriveFile:
 
         b = _Builder(self, values, catalog, flexible)
         try:
-            parts = b.elements()
+            with float_range(lambda: f"a value of {b.current}"):
+                parts = b.elements()
+        except FloatRangeError:
+            raise
         except BeltcalcError as exc:
             if isinstance(exc, DriveFileError) or exc.scope == "scene":
                 raise
             raise DriveFileError(f"{self.path}: {b.current}: {exc.message}") from None
         try:
-            net = Network(parts["nodes"], parts["couplings"], parts["loads"], parts["motors"] or None,
-                          prescribed=parts["prescribed"], strands=parts["strands"],
-                          speed_loops=parts["speed_loops"], gears=parts["gears"],
-                          elements=parts.get("elements", []))
+            with float_range("the drive's model"):
+                net = Network(parts["nodes"], parts["couplings"], parts["loads"], parts["motors"] or None,
+                              prescribed=parts["prescribed"], strands=parts["strands"],
+                              speed_loops=parts["speed_loops"], gears=parts["gears"],
+                              elements=parts.get("elements", []))
+                net.first_order()          # every entry of the first-order system is finite (cached)
+        except FloatRangeError:
+            raise
         except BeltcalcError as exc:
             raise DriveFileError(f"{self.path}: {exc.message}") from None
         return b, net
@@ -870,7 +897,8 @@ def _convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
         if si_numbers:
             value = float(raw)
             return (value, unit.split("|")[0]) if keep_unit and "|" in unit else value
-        raise ValueError(f"{raw!r} needs its unit: write it as a text, e.g. \"{raw} {unit.split('|')[0]}\"")
+        example = raw if isinstance(raw, int) or math.isfinite(raw) else 1.0    # "inf s" is refused too
+        raise ValueError(f"{raw!r} needs its unit: write it as a text, e.g. \"{example:g} {unit.split('|')[0]}\"")
     try:
         if isinstance(raw, str):
             got = _quantity(raw, unit)

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from beltcalc.errors import InputError, require_positive
+from beltcalc.errors import FloatRangeError, InputError, require_positive
 from beltcalc.sim.elements import (Coupling, Element, Gear, Inertia, InductionMotor, Load, Points, Prescribed,
                                    SpeedLoop, Strand, check_points, piece, piecewise)
 
@@ -111,15 +111,52 @@ class Piece:
         return self.net.state_index[id(element)]
 
 
-def _require_finite(*arrays: np.ndarray) -> None:
+def _require_finite(*arrays: np.ndarray, net: "Network | None" = None) -> None:
     """Refuse a first-order system with an entry beyond the float range: a stiffness,
     damping or load divided by a mass or inertia overflows (e.g. 1e308 N m/rad on 1e-5
-    kg m^2) and no solver can do anything with it."""
+    kg m^2) and no solver can do anything with it. With ``net`` (the arrays ``A``, ``B`` of
+    :meth:`Network.first_order`) the message names the coordinate and the term."""
     with np.errstate(invalid="ignore"):
         if all(np.isfinite(a).all() for a in arrays):
             return
-    raise InputError("the drive's equations of motion overflow: a stiffness, damping or load over a mass "
-                     "or inertia is beyond 1e308 in SI units; check the values and their units")
+    what = "a stiffness, damping or load over a mass or inertia"
+    if net is not None and len(arrays) == 2:
+        A, B = arrays
+        n = net.n
+        bad = np.argwhere(~np.isfinite(A))
+        if bad.size:
+            row, col = (int(v) for v in bad[0])
+            if n <= row < 2 * n:
+                c = net.coords[row - n]
+                unit = "m" if net.node(c).translation else "rad"
+                term = ("stiffness" if col < n else "damping" if col < 2 * n else "a motor's or an element's term")
+                what = f"the {term} on {c} over its {'mass' if unit == 'm' else 'inertia'}"
+        elif (~np.isfinite(B)).any():
+            row = int(np.argwhere(~np.isfinite(B))[0][0])
+            if n <= row < 2 * n:
+                what = f"a load on {net.coords[row - n]} over its inertia"
+    raise FloatRangeError(f"the drive's equations of motion overflow a float: {what} is beyond 1e308 in SI "
+                          "units; check the values and their units")
+
+
+def _require_finite_elements(elements) -> None:
+    """Refuse an element with a value beyond the float range (a stiffness G pi d^4 / 32 L of a
+    shaft a millionth of a micrometre long): each float field of each element kind."""
+    import dataclasses
+
+    for el in elements:
+        if not dataclasses.is_dataclass(el):
+            continue
+        for f in dataclasses.fields(el):
+            v = getattr(el, f.name)
+            if isinstance(v, float) and not math.isfinite(v):
+                kind = type(el).__name__.lower()
+                name = getattr(el, "name", "") or f"on {getattr(el, 'node', '')}"
+                unit = getattr(el, "UNITS", {}).get(f.name) or "in SI units"
+                what = {"C": "stiffness C", "d": "damping d", "J": "inertia J", "U": "ratio U",
+                        "omega": "frequency omega"}.get(f.name, f.name)
+                raise FloatRangeError(f"the {what} of {kind} {name} overflows a float "
+                                      f"({'not a number' if math.isnan(v) else 'beyond 1e308 ' + unit})")
 
 
 @dataclass
@@ -149,6 +186,9 @@ class Network:
     elements: list[Element] = field(default_factory=list)
 
     def __post_init__(self):
+        _require_finite_elements([*self.nodes, *self.couplings, *self.loads, *self.prescribed, *self.strands,
+                                  *self.speed_loops, *self.gears, *self.elements,
+                                  *(self.motor if isinstance(self.motor, (list, tuple)) else [self.motor])])
         names = [n.name for n in self.nodes]
         if len(set(names)) != len(names):
             raise InputError(f"node names repeat: {names}", param="network")
@@ -251,7 +291,12 @@ class Network:
         groups = sorted(set(roots))
         gmass = {r: 0.0 for r in groups}
         for k, nd in enumerate(self.nodes):
-            gmass[roots[k]] += f_of[k] ** 2 * nd.J
+            square = f_of[k] * f_of[k]
+            if not math.isfinite(square):
+                raise FloatRangeError(f"the rigid gears make node {nd.name} turn {abs(f_of[k]):.3g} times as fast as "
+                                      f"{self.nodes[roots[k]].name}: the square of that ratio, which takes its "
+                                      "inertia and springs to one coordinate, overflows a float (beyond 1e308)")
+            gmass[roots[k]] += square * nd.J
         heavy = [r for r in groups if gmass[r] > 0]
         light = [r for r in groups if gmass[r] == 0]
         self.coords = [self.nodes[r].name for r in heavy]
@@ -531,7 +576,7 @@ class Network:
                     B[n + k, 0] = a / f
                     if c:
                         B[n + k, p.ramp] = c / f
-        _require_finite(A, B)
+        _require_finite(A, B, net=self)
         return A, B
 
     def strand_stamps(self, fixed_rows: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -20,7 +20,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable, Iterator, Mapping, Sequence
 
-from beltcalc.errors import BeltcalcError, InputError, require_positive
+from beltcalc.errors import BeltcalcError, FloatRangeError, InputError, float_range, require_positive
 from beltcalc.params import Param, Resolved, resolve
 from beltcalc.report import Column, Section
 
@@ -225,7 +225,46 @@ def run_scene(scene: Scene, values: Mapping[str, object], cfg, **options) -> Out
     ('main shaft (3), t >= 0.2 s', 'exact')
     """
     with scene_values(p.name for p in scene.params):
-        return scene.run(dict(values), cfg, **options)
+        try:
+            with float_range("the scene's model"):
+                return scene.run(dict(values), cfg, **options)
+        except FloatRangeError as exc:
+            raise _blame(scene, values, exc, options) from None
+
+
+def _blame(scene: Scene, values: Mapping[str, object], exc, options):
+    """An overflow of ``scene`` with ``values``: about the value (differing from the scene
+    file's) that makes its model overflow (:func:`beltcalc.errors.blame`: the model is
+    built, and its first-order system, with each such value put back)."""
+    from beltcalc.errors import blame
+
+    try:
+        defaults = scene.values()
+    except BeltcalcError:
+        return exc
+    import inspect
+
+    units = {p.name: p.unit for p in scene.params}
+    changed = [k for k, v in values.items() if defaults.get(k) != v and isinstance(v, (int, float))]
+    takes = inspect.signature(scene.build).parameters       # a run's options the build may not take
+    if not any(p.kind == p.VAR_KEYWORD for p in takes.values()):
+        options = {k: v for k, v in options.items() if k in takes}
+
+    def probe(name):
+        given = dict(values)
+        if name is not None:          # put back: the file's value, or none where the file gives none
+            given.pop(name)
+            if defaults.get(name) is not None:
+                given[name] = defaults[name]
+        with float_range("the scene's model"):
+            scene.build(given, **options).first_order()
+
+    def show(name):
+        unit = units.get(name) or ""
+        unit = "" if unit in ("", "1", "int") or "|" in unit else f" {unit}"
+        return f"{values[name]:g}{unit}"
+
+    return blame(exc, changed, probe, show)
 
 
 @dataclass(frozen=True)
@@ -428,8 +467,12 @@ def scene_work_precision(scene: Scene, values: Mapping[str, object],
     from beltcalc.sim.workprecision import work_precision
 
     with scene_values(p.name for p in scene.params):
-        net = scene.build(dict(values), **options)
-        t_end, samples = scene.timing(dict(values), **options)
+        try:
+            with float_range("the scene's model"):
+                net = scene.build(dict(values), **options)
+                t_end, samples = scene.timing(dict(values), **options)
+        except FloatRangeError as exc:
+            raise _blame(scene, values, exc, options) from None
     rows = work_precision(net, t_end, samples, scene.signal, progress=progress)
     return WorkPrecision(rows, t_end, samples, scene.signal)
 

@@ -101,6 +101,7 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
         return
     with spinner(f"simulating {spec.name}", enabled=not as_json):
         out = run_scene(spec, values, cfg, **options)
+    out.require_running(accept_error)     # a drive that stalls: one line, exit 1 (marked with --accept-error)
     out.result.warnings[:] = [render(w, to_option) for w in out.result.warnings]
     out.notes[:] = [render(n, to_option) for n in out.notes]
     emit_warnings(out.result.warnings, out.checks, strict)   # with --strict, a failing check ends here
@@ -138,7 +139,7 @@ def _print_checks(checks) -> None:
         style = "bold red" if c.verdict == "FAIL" else None
         t.add_row(c.name, "-" if c.value is None else format_number(c.value, 4),
                   "-" if c.limit is None else format_number(c.limit, 4), c.unit,
-                  "-" if u is None else f"{u:.0%}", c.verdict, style=style)
+                  "-" if u is None else f"{u:.0%}" if u < 1e300 else "unbounded", c.verdict, style=style)
     console().print(t)
 
 

@@ -377,7 +377,13 @@ def _sewing(plan, X: np.ndarray) -> list[list[float] | None]:
         steady[r] += [ss_mean[j, STEADY_SIGNALS.index("omega_1")], ss_mean[j, STEADY_SIGNALS.index("M_motor")],
                       ss_amp[j, STEADY_SIGNALS.index("M_motor")]]
     if steady_only:
-        for r in runs:
+        for j, r in enumerate(runs):
+            # the single run's stall checks (motor mean torque under breakdown, turning forwards):
+            # a run near or past either goes through it
+            breakdown = vals[r]["breakdown_factor"] * vals[r]["rated_torque"]
+            torque, speed = ss_mean[j, STEADY_SIGNALS.index("M_motor")], ss_mean[j, STEADY_SIGNALS.index("omega_1")]
+            if abs(torque) / breakdown > 1 - MARGIN or not speed > 0:
+                continue
             out[r] = steady[r]
         return out
 
@@ -407,6 +413,8 @@ def _sewing(plan, X: np.ndarray) -> list[list[float] | None]:
             row += [mean[6], mean[7], amp[7]]
             breakdown = v["breakdown_factor"] * v["rated_torque"]
             utils = [abs(mean[7]) / breakdown, max(abs(lo[7]), abs(hi[7])) / breakdown]
+            if not mean[6] > 0:                        # the motor turns backwards: the single run's stall check
+                continue
             if est:
                 utils.append(err[j] / cfg.error_tol)
             if np.isfinite(seps[j]):                   # resonance_check: separation >= RESONANCE_MARGIN

@@ -58,6 +58,24 @@ class Outcome:
             if c.warning() not in r.warnings:
                 r.warnings.append(c.warning())
 
+    def require_running(self, accept: bool = False) -> None:
+        """Refuse a run whose drive stalls (a failing check of :data:`STALL_CHECKS`): its
+        means and amplitudes are of no steady state. With ``accept`` the run is kept with a
+        warning, and every row of the report says it is of a stalled drive.
+
+        Raises :class:`~beltcalc.errors.InputError` (one line: how it stalls, what to try)."""
+        if not stalls(self.checks):
+            return
+        line = stall_line(self.checks)
+        if not accept:
+            raise InputError(f"{line}. No steady state to report: lower the loads or choose a stronger motor "
+                             "(`accept_error` prints the run, every row marked)")
+        mark = "of a stalled drive: no steady state"
+        self.sections = [replace(sec, rows=[replace(r, note=f"{r.note}; {mark}" if r.note else mark)
+                                            for r in sec.rows]) for sec in self.sections]
+        if line not in self.result.warnings:
+            self.result.warnings.insert(0, line + "; printed with `accept_error`: every row is of a stalled drive")
+
     def to_dict(self, title: str, modes: bool = False) -> dict:
         """The run as one JSON-ready object: the scene's ``title``, how it was solved, every
         section's rows as ``{key: {"value": SI, "unit": SI unit}}`` placed by its path, the
@@ -563,21 +581,75 @@ def resonance_check(net, result, window: float) -> list:
                        f"{RESONANCE_MARGIN:.0%}")]
 
 
-def motor_checks(result, signal: str, breakdown: float, window: float, peak_from: float = 0.0) -> list:
+def motor_checks(result, signal: str, breakdown: float, window: float, peak_from: float = 0.0,
+                 speed: str | None = None) -> list:
     """An induction motor's torque against its breakdown torque M_c: the mean over the steady
     window (beyond it the motor stalls) and the peak from ``peak_from`` [s] on (beyond it the
-    linearised characteristic of Mamatova et al. eq. 2 does not hold)."""
+    linearised characteristic of Mamatova et al. eq. 2 does not hold); with ``speed`` (the
+    motor node's speed signal) whether the motor turns forwards over the window
+    (:func:`stall_checks`)."""
     from beltcalc.checks import Check
 
     mean, part = result.summary(signal, window).mean, result.summary(signal, peak_from)
     peak = max(abs(part.min), abs(part.max))
     span = "over the run" if peak_from <= 0 else f"t >= {peak_from:.4g} s"
-    return [Check("motor_mean_torque", "motor mean torque", abs(mean), breakdown, "N m",
-                  rule=f"t >= {window:.4g} s, against the breakdown torque M_c: beyond it the motor stalls",
-                  signals=(signal,)),
-            Check("motor_peak_torque", "motor peak torque", peak, breakdown, "N m",
-                  rule=f"{span}, against the breakdown torque M_c: the linearised characteristic (eq. 2) holds "
-                       "below it", signals=(signal,))]
+    turning = None if speed is None else result.summary(speed, window).mean
+    return stall_checks(mean, turning, breakdown, f"t >= {window:.4g} s", (signal,)) + [
+        Check("motor_peak_torque", "motor peak torque", peak, breakdown, "N m",
+              rule=f"{span}, against the breakdown torque M_c: the linearised characteristic (eq. 2) holds "
+                   "below it", signals=(signal,))]
+
+
+#: The checks whose failure means the drive stalls (:func:`stall_checks`): a run that fails
+#: one has no steady state to report.
+STALL_CHECKS = ("motor_mean_torque", "motor_direction")
+
+
+def stall_checks(torque: float, speed: float | None, breakdown: float, where: str, signals: tuple = ()) -> list:
+    """Does an induction motor run? Its mean torque ``torque`` [N m] against its breakdown
+    torque M_c (beyond it a real motor's torque falls and it stalls: the linearised
+    characteristic of Mamatova et al. eq. 2 would go on rising), and its mean speed
+    ``speed`` [rad/s] (None: not checked) in the direction of its synchronous speed (always
+    forwards, > 0): loads that turn the motor backwards against the torque it drives
+    with have stalled the train. ``where``: the window, for the rule.
+
+    >>> [c.verdict for c in stall_checks(2.0, 150.0, 3.0, "t >= 0.5 s")]
+    ['pass', 'pass']
+    >>> [c.verdict for c in stall_checks(36.4, -66.6, 3.0, "t >= 0.5 s")]
+    ['FAIL', 'FAIL']
+    """
+    from beltcalc.checks import Check
+
+    out = [Check("motor_mean_torque", "motor mean torque", abs(torque), breakdown, "N m",
+                 rule=f"{where}, against the breakdown torque M_c: beyond it the motor stalls", signals=signals)]
+    if speed is not None:
+        out.append(Check("motor_direction", "motor speed, mean", speed, 0.0, "rad/s", kind="min",
+                         rule=f"{where}, in the direction of its synchronous speed: at or below 0 the loads turn the "
+                              "stalled train backwards against the motor"))
+    return out
+
+
+def stalls(checks) -> list:
+    """The failing checks of ``checks`` that mean the drive stalls (:data:`STALL_CHECKS`)."""
+    from beltcalc.checks import failures
+
+    return [c for c in failures(checks) if c.key in STALL_CHECKS]
+
+
+def stall_line(checks) -> str:
+    """One line saying how the drive stalls, from its failing :data:`STALL_CHECKS`.
+
+    >>> stall_line(stall_checks(36.4, -66.6, 3.0, "t >= 0.5 s"))
+    'the drive stalls: motor mean torque 36.4 N m beyond the breakdown torque 3 N m (t >= 0.5 s); motor speed, mean -66.6 rad/s: the loads turn it backwards'
+    """
+    parts = []
+    for c in stalls(checks):
+        if c.key == "motor_direction":
+            parts.append(f"{c.name} {c.value:.4g} {c.unit}: the loads turn it backwards")
+        else:
+            parts.append(f"{c.name} {c.value:.4g} {c.unit} beyond the breakdown torque {c.limit:.4g} {c.unit} "
+                         f"({c.rule.split(',')[0]})")
+    return "the drive stalls: " + "; ".join(parts)
 
 
 # --- the exact periodic steady state, and whether the window has settled ----------------------------

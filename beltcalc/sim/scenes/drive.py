@@ -105,7 +105,8 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
     result = simulate(net, drive.t_end, drive.samples, cfg, watch=(watched, (0.0, w0), reported))
     checks = strand_check(net, result, drive.limits) + resonance_check(net, result, w0)
     for m in net.motors:      # a start from rest without a ramp is outside eq. 2: its peak counts from the window
-        checks += motor_checks(result, f"M_{m.name}", m.breakdown_torque, w0, 0.0 if m.sync_table else w0)
+        checks += motor_checks(result, f"M_{m.name}", m.breakdown_torque, w0, 0.0 if m.sync_table else w0,
+                               speed=_speed(net, m.node))
     notes = list(drive.notes)
     sections = report(drive, result)
     steady, why = steady_state(drive)

@@ -353,7 +353,7 @@ def run(values: dict, cfg) -> Outcome:
                                + ("the load lands" if start < t_end else "the run ends")
                                + ": no start-up time; raise `load_start` or `t_end`")
     breakdown = values["breakdown_factor"] * values["rated_torque"]
-    checks = strand_check(net, result, breaking) + motor_checks(result, "M_motor", breakdown, w0)
+    checks = strand_check(net, result, breaking) + motor_checks(result, "M_motor", breakdown, w0, speed="omega_motor")
     checks += settling_check(net, w0, t_end, strands_at_end(net, result))
     return Outcome(net, result, sections, [], checks)
 

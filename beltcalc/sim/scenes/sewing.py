@@ -18,6 +18,7 @@ from beltcalc.checks import Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, SteadyRow, check_timing, exact_steady_state, motor_checks,
+                                      stall_checks,
                                       resonance_check, scene_values, settling_check, steady_sections)
 
 NODES = ("1", "2", "3", "4", "5")
@@ -208,12 +209,14 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
                            reason="exact periodic steady state: the drive is linear with sinusoidal loads, so "
                                   "every signal is mean + Re(H(jw) e^{jwt}) (no time simulation)",
                            wall_time=steady_wall, steps=0, rhs_calls=0)
-        return Outcome(net, result, _steady_sections(steady), notes)
+        breakdown = values["breakdown_factor"] * values["rated_torque"]
+        checks = stall_checks(steady.mean["M_motor"], steady.mean["omega_1"], breakdown, "periodic steady state")
+        return Outcome(net, result, _steady_sections(steady), notes, checks)
     if eccentric and cfg.method == "exact":
         reasons = "; ".join(sorted({el.nonlinear_reason for el in net.elements if el.nonlinear_kind}))
         raise InputError("the exact method needs a network that is linear between switches; this one is not: "
                          f"{reasons}: use `method` radau (or auto)", param="method")
-    omega = net.frequencies()[0] if net.frequencies() else 0.0
+    omega = abs(net.frequencies()[0]) if net.frequencies() else 0.0     # a stalled drive's loads turn backwards
     start, periods = whole_period_window(values["t_end"], values["window"], omega)
     result = simulate(net, values["t_end"], samples, cfg)
     if periods:
@@ -251,7 +254,8 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
     breakdown = values["breakdown_factor"] * values["rated_torque"]
     # the paper's start from rest, direct on line, runs the linearised characteristic far beyond
     # breakdown (the model's own limit, not the drive's): the peak is checked in the window
-    checks = motor_checks(result, "M_motor", breakdown, start, peak_from=start) + resonance_check(net, result, start)
+    checks = motor_checks(result, "M_motor", breakdown, start, peak_from=start, speed="omega_1")
+    checks += resonance_check(net, result, start)
     checks += span_checks
     checks += settling_check(net, start, values["t_end"])
     if omega:

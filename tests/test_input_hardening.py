@@ -483,3 +483,44 @@ def test_an_infinite_window_suggests_a_finite_one(tmp_path, out):
     path.write_text('[drive]\nt_end = "1 s"\nwindow = inf\n[[node]]\nname = "a"\ninertia = "1 kg*m^2"\n')
     line = fails(out, 1, ["modes", str(path)], ["window", "needs its unit", 'e.g. "1 s"'])
     assert "inf s" not in line
+
+
+def test_an_unreachable_scheduler_fails_in_seconds(out):
+    # it took 20 s (distributed's connect timeout was 20 s); port 1 refuses at once
+    pytest.importorskip("distributed")
+    start = time.perf_counter()
+    fails(out, 1, ["simulate", "sewing", "--steady-state-only", "--sweep", "C4=100N*m/rad:200N*m/rad:2",
+                   "--scheduler", "tcp://127.0.0.1:1"],
+          ["--scheduler", "cannot reach the Dask scheduler", "after 3 s"])
+    assert time.perf_counter() - start < 10.0          # 3 s to connect, the rest importing distributed
+
+
+def test_json_phases_are_in_rad():
+    # the JSON gave phases in degrees; SI is rad (the tables keep degrees)
+    import math
+
+    response = run("response", "--json")
+    assert response.exit_code == 0, response.output
+    for r in json.loads(response.stdout)["responses"]:
+        assert r["phase"]["unit"] == "rad"
+        assert all(-math.pi - 1e-12 <= p <= math.pi + 1e-12 for p in r["phase"]["value"] if p is not None)
+    modes = run("modes", "friswell_5_disks", "--json")
+    assert modes.exit_code == 0, modes.output
+    shapes = [m["shape"] for m in json.loads(modes.stdout)["modes"] if m["kind"] == "oscillatory"]
+    phases = [n["phase"] for s in shapes for n in s["nodes"].values()]
+    assert phases and all(p["unit"] == "rad" for p in phases)
+    # Friswell's five disks, mode 1: disks 1-4 against disk 5 (180 deg in the table), pi rad here
+    assert [abs(n["phase"]["value"]) for n in shapes[0]["nodes"].values()] == pytest.approx(
+        [math.pi] * 4 + [0.0], abs=1e-9)
+
+
+def test_text_inputs_of_a_simulation_have_the_input_shape():
+    # simulate's JSON `inputs` gave a name (belt, routing) without `value`/`unit`; the design
+    # commands echo one as {"text", "value": null, "unit": "", "origin"}
+    result = run("simulate", "drive", "conveyor", "--json")
+    assert result.exit_code == 0, result.output
+    inputs = json.loads(result.stdout)["inputs"]
+    assert inputs["upper.belt"]["value"] is None and inputs["upper.belt"]["unit"] == ""
+    assert inputs["upper.belt"]["text"] == "BRECO-AT10"
+    for name, item in inputs.items():
+        assert set(item) == {"text", "value", "unit", "origin"}, (name, item)

@@ -191,7 +191,7 @@ def _modes_csv(m, nodes: list[str]) -> str:
                big.get("element", ""), repr(big["share"]["value"]) if big else ""]
         nodes_ = shape.get("nodes", {})
         row += [repr(nodes_[n]["amplitude"]["value"]) if n in nodes_ else "" for n in nodes]
-        row += [repr(nodes_[n]["phase"]["value"]) if n in nodes_ else "" for n in nodes]
+        row += [repr(math.degrees(nodes_[n]["phase"]["value"])) if n in nodes_ else "" for n in nodes]   # JSON: rad
         rows.append(row)
     return table_csv(header, rows)
 
@@ -257,13 +257,15 @@ def _tag(unit: str) -> str:
 
 
 def _response_json(d, r) -> dict:
+    import numpy as np
+
     out = {"drive": d.title, "file": d.path, "excitations": r.inputs, "outputs": r.outputs,
            "frequency": {"value": _floats(r.omega / (2 * math.pi)), "unit": "Hz"}, "responses": []}
     for y, u, unit in _pairs(r):
         out["responses"].append({
             "output": y, "input": u,
             "magnitude": {"value": _floats(r.magnitude(y, u)), "unit": unit},
-            "phase": {"value": _floats(r.phase(y, u)), "unit": "deg"},
+            "phase": {"value": _floats(np.radians(r.phase(y, u))), "unit": "rad"},      # SI; the table: deg
             "peaks": [{"frequency": _q(f, "Hz"), "magnitude": _q(mag, unit),
                        "q": _q(q, "1") if q is not None else None} for f, mag, q in r.peaks[(y, u)]],
         })

@@ -158,7 +158,9 @@ def rows_json(rows: Iterable[Row], **extra) -> str:
 
 def inputs_json(params, resolved) -> dict:
     """Every input of the run with its value in SI, its unit, the text it was read from and
-    its origin: ``"option"`` (given on the command line) or ``"scene: <why>"``."""
+    its origin: ``"option"`` (given on the command line) or ``"scene: <why>"``. A name (a
+    belt, a routing) has the same shape as in the design commands' inputs
+    (:func:`beltcalc.cli.contract.entry`): its ``text``, ``"value": null``, ``"unit": ""``."""
     units = {p.name: p.unit for p in params}
     out = {}
     for name, r in resolved.items():
@@ -169,6 +171,8 @@ def inputs_json(params, resolved) -> dict:
         entry = {"text": r.text, "origin": "option" if r.given else r.origin}
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             entry = {"value": float(value), "unit": "1" if unit in (None, "", "int") else unit, **entry}
+        else:       # a name (a belt, a routing), as the design commands echo one (cli/contract.py)
+            entry = {"value": None, "unit": "", **entry}
         out[name] = entry
     return out
 

@@ -102,7 +102,7 @@ def pole_dict(pole, mode: int | None = None, shape=None) -> dict:
                    damping_ratio=_q(pole.damping_ratio, "1"))
         if shape is not None:
             out["shape"] = {
-                "nodes": {n: {"amplitude": _q(a, "1"), "phase": _q(shape.phase[n], "deg")}
+                "nodes": {n: {"amplitude": _q(a, "1"), "phase": _q(math.radians(shape.phase[n]), "rad")}
                           for n, a in shape.amplitude.items()},
                 "strain_energy": {e: _q(share, "1") for e, share in shape.energy.items()},
                 "largest_strain_energy": ({"element": shape.dominant, "share": _q(shape.energy[shape.dominant], "1")}

@@ -457,7 +457,7 @@ def _on_dask(plan: Plan, on_chunk, workers: int, scheduler: str | None, progress
     cluster = None
     if scheduler is not None:
         try:
-            client = Client(scheduler, timeout="20s")
+            client = Client(scheduler, timeout="3s")   # an unreachable address: one line within seconds
         except Exception as exc:                  # OSError, TimeoutError, a malformed address
             from beltcalc.errors import InputError
 

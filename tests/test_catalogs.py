@@ -168,11 +168,11 @@ def test_unknown_names_suggest_close_ones(cat):
 # --- the loader on user files ------------------------------------------------------------
 
 def _readme_toml_example() -> str:
-    """The README's catalog example: the ```toml block that has a [source] table."""
-    text = (ROOT / "README.md").read_text()
+    """The catalog example of docs/catalogs.md: the ```toml block that has a [source] table."""
+    text = (ROOT / "docs" / "catalogs.md").read_text()
     blocks = [m.group(1) for m in re.finditer(r"^```toml\n(.*?)^```$", text, flags=re.S | re.M)]
     catalog = [b for b in blocks if "[source]" in b]
-    assert catalog, "README has no ```toml catalog block"
+    assert catalog, "docs/catalogs.md has no ```toml catalog block"
     return catalog[0]
 
 

@@ -188,7 +188,7 @@ def test_sewing_scene_with_the_eccentric_roller():
 
     from beltcalc.cli.main import cli
 
-    args = ["simulate", "sewing", "--set", "roller_eccentricity=2mm"]          # the README's run
+    args = ["simulate", "sewing", "--set", "roller_eccentricity=2mm"]          # docs/scenes.md's run
     result = CliRunner().invoke(cli, args + ["--json"])
     assert result.exit_code == 0, result.output
     out = json.loads(result.stdout)
@@ -205,10 +205,10 @@ def test_sewing_scene_with_the_eccentric_roller():
     assert roller["main_torque_amplitude_ratio"]["value"] == pytest.approx(
         roller["main_torque_amplitude"]["value"] / roller["main_torque_amplitude_constant"]["value"], rel=1e-12)
     assert "eccentric tension roller" in out["reason"] and "steady_state" not in out
-    # the figures the README quotes
+    # the figures docs/scenes.md quotes
     from pathlib import Path
 
-    readme = " ".join((Path(__file__).parents[1] / "README.md").read_text(encoding="utf-8").split())
+    readme = " ".join((Path(__file__).parents[1] / "docs" / "scenes.md").read_text(encoding="utf-8").split())
     quoted = {"between 1.3640 and 1.3861": (roller["ratio_min"]["value"], roller["ratio_max"]["value"]),
               "at 62.22 Hz": roller["ripple_frequency"]["value"],
               "speed amplitude is 1.11 times": roller["main_speed_amplitude_ratio"]["value"],

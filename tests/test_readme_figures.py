@@ -119,6 +119,7 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "chain": ("chain",),
     "chain B": ("chain", "--series", "B", "--power", "5kW", "--speed", "1000rpm", "--teeth", "19",
                 "--teeth-large", "38", "--center-distance", "500mm"),
+    "minimal": ("simulate", "drive", "minimal"),
 }
 SLOW = {"roller-table 20"}           # about 10-25 s: the one run over 10 s
 
@@ -690,6 +691,53 @@ FIGURES = on("docs/tension.md", [
     F("chain", "Example 17-5's 140-3 runs at 3.778 m/s: Type B (Type A up to 0.584 m/s,", "B", J("lubrication")),
     F("chain", "Type B (Type A up to 0.584 m/s, Type B up to 5.59 m/s)", "0.584", J("lubrication_limit_a")),
     F("chain", "Type B (Type A up to 0.584 m/s, Type B up to 5.59 m/s)", "5.59", J("lubrication_limit_b")),
+])
+
+
+# the README's tour: rows of each command's printed table, as the README shows them
+FIGURES += on("README.md", [
+    F("tension", "│ peak belt force F_t,peak │ 505.1 │ N │", "505.1", J("tension_peak")),
+    F("tension", "│ pretension displacement x_max │ 1.143 │ mm │", "1.143", J("pretension_displacement", MM)),
+    F("tension", "│ stiffness k_TB │ 441.8 │ N/mm │", "441.8", J("stiffness", 1e-3)),
+    F("tension", "│ utilisation F_t,peak / F_Tadm │ 23.0 │ % │", "23.0", J("utilisation", 100)),
+    F("tension", "│ thread torque │ 0.631 │ N m │", "0.631", J("bolt_torque")),
+    F("motor-size", "│ reflected inertia J_red │ 6.071 │ kg cm^2 │", "6.071", J("reflected_inertia", CM2)),
+    F("motor-size", "│ load / motor inertia │ 6.59 │", "6.59", J("inertia_ratio")),
+    F("motor-size", "│ peak torque │ 2.10 │ N m │ T_max 6.69 N m │", "2.10", J("peak_torque")),
+    F("motor-size", "│ RMS torque │ 0.691 │ N m │ limit 1.91 N m: 36% of T_n │", "0.691", J("rms_torque")),
+    F("motor-size", "│ braking energy per cycle │ 27.9 │ J │", "27.9", J("braking_energy")),
+    F("motor-size", "recommended: SGM7J-06A: smallest motor that passes", "SGM7J-06A", J("selected_motor")),
+    F("belt-drive", "│ belt between the clamps (pitch line) │ 2890 │ mm │", "2890", J("belt_length", MM)),
+    F("belt-drive", "│ span frequency at F_v │ 26.60 │ Hz │", "26.60", J("span_frequency")),
+    F("belt-drive", "│ tension member: F_U + F_v <= F_Tadm │ 45.5 │ % │ pass │", "45.5",
+      lambda d: utilisation(d, "tension member") * 100),
+    F("chain", "│ chain speed v │ 3.778 │ m/s │", "3.778", J("chain_speed")),
+    F("chain", "│ chain length (even) │ 76 │ │ links │", "76", J("links")),
+    F("chain", "│ centre distance for it (back-solved) │ 1115.88 │ mm │", "1115.88", J("center_distance", MM)),
+    F("minimal", "│ torque, mean │ 4.000 │ N m │", "4.000", J("motors/M_motor/torque_mean")),
+    F("minimal", "│ torque, peak over the run │ 7.359 │ N m │", "7.359", J("motors/M_motor/torque_peak")),
+    F("minimal", "│ speed, mean │ 152.10 │ rad/s │", "152.10", J("motors/M_motor/speed_mean")),
+    F("minimal", "│ strand switches │ 0 │", "0", J("events")),
+    F("minimal", "│ tight │ 300 │ 369.3 │ 0 │ 5.96 │", "369.3", J("strands/tight/force_max")),
+    F("minimal", "│ tight │ 300 │ 369.3 │ 0 │ 5.96 │", "5.96", J("strands/tight/safety")),
+    F("minimal", "│ slack │ 230.7 │ 300 │ 0 │ 7.33 │", "230.7", J("strands/slack/force_min")),
+    F("sewing", "│ speed, amplitude │ 1.872 │ rad/s │", "1.872", J("shafts/bottom/speed_amplitude")),
+    F("sewing", "│ transmitted torque, amplitude │ 0.07015 │ N m │", "0.07015", J("shafts/bottom/torque_amplitude")),
+    F("roller-table", "│ torque, mean │ 4.800 │ N m │", "4.800", J("motor/torque_mean")),
+    F("roller-table", "│ start-up time │ 1.988 │ s │", "1.988", J("motor/startup_time")),
+    F("linear-axis", "│ belt force, max │ 998.6 │ N │", "998.6", J("belt/force_max")),
+    F("linear-axis", "│ first natural frequency │ 14.96 │ Hz │", "14.96", J("belt/first_frequency")),
+    F("linear-axis", "│ torque, peak (dynamic) │ 3.664 │ N m │", "3.664", J("motor/torque_peak")),
+    F("linear-axis", "│ torque, peak (motor-size, rigid) │ 2.101 │ N m │", "2.101", J("motor/torque_peak_rigid")),
+    F("modes conveyor", "│ 3 │ mode 2 │ 24.17 │ 24.06 │ 0.0948 │", "24.17", lambda d: val(mode(d, 2)["frequency"])),
+    F("modes conveyor", "│ 3 │ mode 2 │ 24.17 │ 24.06 │ 0.0948 │", "0.0948", lambda d: val(mode(d, 2)["damping_ratio"])),
+    F("modes conveyor", "│ 4 │ mode 3 │ 38.87 │", "38.87", lambda d: val(mode(d, 3)["frequency"])),
+    F("modes conveyor", "largest strain energy: upper (34.4 %)", "34.4", lambda d: share(d, 2, "upper") * 100),
+    F("response conveyor", "│ omega_rotor │ load:drum2 │ 38.77 │ 0.2820 │ rad/s/(N m) │ 22.8 │", "38.77",
+      lambda d: val(peak(d, "omega_rotor", 38.9)["frequency"])),
+    F("response conveyor", "│ omega_rotor │ load:drum2 │ 38.77 │ 0.2820 │ rad/s/(N m) │ 22.8 │", "22.8",
+      lambda d: val(peak(d, "omega_rotor", 38.9)["q"])),
+    F("campbell conveyor", "│ 151.9 │ 1450 │ 0.967 │ 1 │ 2 │ 24.17 │", "151.9", lambda d: val(crossing(d, 1, 2)["speed"])),
 ])
 
 

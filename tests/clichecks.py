@@ -68,15 +68,58 @@ def table_rows(text: str, after: str) -> list[list[str]]:
 
 _SHARED: dict[tuple[str, ...], object] = {}
 
+#: Where the runs of :func:`shared_run` are kept for every process of one test session
+#: (pytest-xdist's workers; set by conftest.py), None: in this process only.
+SHARED_DIR: Path | None = None
+
+
+class StoredResult:
+    """What a test reads of a click ``Result`` (exit code, output streams, the exception's kind),
+    read back from another process's run."""
+
+    def __init__(self, exit_code: int, stdout: str, stderr: str, output: str, exception: str | None):
+        self.exit_code, self.stdout, self.stderr, self.output = exit_code, stdout, stderr, output
+        self.exception = None if exception is None else (SystemExit(exit_code) if exception == "SystemExit"
+                                                         else RuntimeError(exception))
+
 
 def shared_run(*args: str):
     """``beltcalc ARGS`` run in-process once per test session and shared by the tests that read
-    it (a run of many seconds, e.g. the 20-roller table, asked for by several test modules).
-    Only for runs that read no files the tests write."""
-    if args not in _SHARED:
-        from click.testing import CliRunner
+    it (a run of many seconds, e.g. the 20-roller table, asked for by several test modules):
+    once per session across pytest-xdist's workers too (the first to ask runs it under a file
+    lock; the others read what it kept). Only for runs that read no files the tests write."""
+    if args in _SHARED:
+        return _SHARED[args]
+    if SHARED_DIR is None:
+        _SHARED[args] = _invoke(args)
+        return _SHARED[args]
+    import fcntl
+    import hashlib
+    import json
 
-        from beltcalc.cli.main import cli
-
-        _SHARED[args] = CliRunner().invoke(cli, list(args))
+    SHARED_DIR.mkdir(parents=True, exist_ok=True)
+    key = hashlib.sha256(json.dumps(args).encode()).hexdigest()[:24]
+    path = SHARED_DIR / f"{key}.json"
+    with open(SHARED_DIR / f"{key}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not path.exists():
+            res = _invoke(args)
+            exc = None if res.exception is None else type(res.exception).__name__
+            kept = {"args": list(args), "exit_code": res.exit_code, "stdout": res.stdout, "stderr": res.stderr,
+                    "output": res.output, "exception": exc}
+            path.with_suffix(".tmp").write_text(json.dumps(kept))
+            path.with_suffix(".tmp").replace(path)
+            _SHARED[args] = res
+            return res
+    kept = json.loads(path.read_text())
+    assert kept["args"] == list(args)
+    _SHARED[args] = StoredResult(kept["exit_code"], kept["stdout"], kept["stderr"], kept["output"], kept["exception"])
     return _SHARED[args]
+
+
+def _invoke(args):
+    from click.testing import CliRunner
+
+    from beltcalc.cli.main import cli
+
+    return CliRunner().invoke(cli, list(args))

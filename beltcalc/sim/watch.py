@@ -3,19 +3,22 @@
 The switching core (:mod:`beltcalc.sim.switching`) steps the exact solution on internal
 bottom steps chosen from the dynamics alone, never from the output grid. A :class:`Watch`
 sees the state at every step point and piece end, and each signal also half way through
-every step (one product of the signal rows with ``expm(F~ h / 2)``), keeps for each signal
-and window ``[start, t_end]`` the point where the signal is largest (and smallest), and at
-the end of the run maximises the signal's exact Taylor polynomial around that point: within
-one step either side, inside the strand-mode piece and the window. The result does not
-depend on the output samples; its accuracy is that of the polynomial (rounding), except
-where two peaks of one signal lie within the sampling error of each other (then it is the
-lower one, off by less than that difference: the cycles of a ringing signal in a slowly
-settling run; the roller table's roller-1 far-end torque minimum is 1.5e-7 N m, 7e-9 of its
-scale, above the least of 2,000,001 samples, as it was with steps half as long). A stiff
-mode is seen at every bottom step where the run's budget allows (:meth:`Watch.walks`);
-beyond it the candidates are its coarse step points, 2^K bottom steps apart, and the caveat
-reaches further (docs/switching.md: up to 1.3e-5 of a shaft torque's scale on the sewing
-drive file).
+every step, with its second derivative there and at the points (rows ``O F~^2``). A peak
+between the points seen can rise above them by at most ``max |s''| d^2 / 8`` (d the spacing
+of the points seen; CURVE_SAFETY on it): every step whose seen values plus that bound reach
+the best value seen is a candidate. The result does not depend on the output samples.
+
+* Dense modes keep up to C candidate steps per signal, side and window (the highest bounds;
+  their points in one shared pool) and at the end of the run maximise each signal's exact
+  Taylor polynomial around each: within one step either side, inside the strand-mode piece
+  and the window. What was let go is kept as :attr:`Watch.uncertain` (its bound less the
+  extreme found) and goes into the run's error estimate. A stiff mode is seen at every
+  bottom step where the run's budget allows (:meth:`Watch.walks`); beyond it the candidates
+  are its coarse step points, 2^K bottom steps apart (docs/switching.md).
+* Sparse modes (large networks) settle every candidate step at once (:meth:`Watch._settle`):
+  its exact Taylor polynomial over the step, maximised: nothing is kept and nothing let go
+  (a 200-roller chain kept one candidate per signal in 64 MB, and what it let go was 1e-3 of
+  a shaft torque's scale).
 
 Signals are rows over the state ``z = [x, g]``: a state, a coupling torque, or a strand
 force (its row while taut, zero while slack).
@@ -36,6 +39,9 @@ MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ..
 CANDIDATE_BYTES = 64e6  # ... as far as their step points fit this much
 KEPT_MODES = 8         # modes whose signal rows (half step, second derivative) are kept
 CURVE_SAFETY = 2.0     # the largest |s''| seen on a step and its neighbours, times this, bounds it there
+COARSE = 9            # points per step at which a sparse mode's candidate polynomials are read first
+FLAT = 1e-14          # ... and polished only where they may rise by more than this, relative
+SETTLE_FLOATS = 4e6    # polynomial coefficients a sparse mode's candidate steps form at once
 LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many
 WALK_POINTS = 2e6      # a stiff mode is watched at every bottom step where the run has at most this many ...
 WALK_BYTES = 32e6      # ... and its 2^K powers of expm(F~ L) take at most this much
@@ -253,12 +259,83 @@ class Watch:
                 inside = side * seen[:, first:]
                 best = np.maximum(self.best[side][w], inside.max(axis=1))
                 self.best[side][w] = best
+                if mode.sparse and npts == 1:
+                    continue                  # a point alone: its value is all there is
                 u = top[side][:, s0:] + rise[:, s0:]
                 u = np.where(u >= best[:, None], u, -np.inf)
                 if not np.isfinite(u).any():
                     continue
-                self._merge(side, w, u, s0, Z, times, piece, key, best)
+                if mode.sparse:
+                    self._settle(mode, side, w, start, u, s0, Z, times, slack)
+                else:
+                    self._merge(side, w, u, s0, Z, times, piece, key, best)
         self._last = (Z[-1].copy(), float(times[-1]), piece)
+
+    def _settle(self, mode, side: int, w: int, start: float, u: np.ndarray, s0: int, Z: np.ndarray,
+                times: np.ndarray, slack: np.ndarray | None) -> None:
+        """A sparse mode's candidate steps (``u`` finite: signals, steps from s0) maximised at
+        once, each on its exact Taylor polynomial from the step's first point over the step
+        (and the window): no candidate is kept for later and none is let go. The steps' Taylor
+        terms are formed once for all the signals that ask for them (sparse products, as the
+        orbit's own step), SETTLE_FLOATS coefficients at a time."""
+        skip = self.moves if slack is None else (self.moves | slack)
+        sig, col = np.nonzero(np.isfinite(u) & ~skip[:, None])
+        if sig.size == 0:
+            return
+        steps = s0 + col
+        uniq, inv = np.unique(steps, return_inverse=True)
+        rows = np.unique(sig)
+        Orows = self.Op[rows]
+        at_row = np.searchsorted(rows, sig)
+        L = mode.L
+        per = max(1, int(SETTLE_FLOATS // max(1, rows.size * mode.terms)))
+        best = self.best[side][w]
+        for c0 in range(0, uniq.size, per):
+            part = uniq[c0:c0 + per]
+            V = mode.taylor(Z[part])                       # (terms, steps, states)
+            T, m = V.shape[0], part.size
+            P = np.asarray(Orows @ V.reshape(T * m, -1).T).reshape(rows.size, T, m)
+            pick = (inv >= c0) & (inv < c0 + m)
+            k, q = at_row[pick], inv[pick] - c0
+            C = side * P[k, :, q]                         # (pairs, terms), lowest power first
+            t0, t1 = times[part[q]], times[part[q] + 1]
+            a = np.maximum(0.0, (start - t0) / L)
+            b = (t1 - t0) / L
+            who = sig[pick]
+            # first the polynomials at COARSE points (values of the signal: they raise the
+            # best), then only the steps whose coarse best plus the most p can rise between
+            # them, max|p''| d^2 / 8 with |p''| <= sum j (j - 1) |c_j| on |s| <= 1, still reach
+            # it are polished (the midpoint's bound is loose where a step turns 2 rad)
+            s_c = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, COARSE)[None, :]
+            y = _horner_rows(C, s_c)
+            top = y.max(axis=1)
+            top[~(b > a)] = -np.inf
+            np.maximum.at(best, who, top)
+            j = np.arange(C.shape[1])
+            curve = np.abs(C) @ (j * (j - 1.0))
+            rise = curve * ((b - a) / (COARSE - 1)) ** 2 / 8
+            # a step whose rise is below rounding of its values (a strand at its pretension, a
+            # roller at speed) is known to rounding at its coarse points: not polished
+            go = np.flatnonzero((b > a) & (top + rise >= best[who]) & (rise > FLAT * np.abs(top)))
+            if go.size:
+                self._polish_steps(best, who[go], C[go], s_c[go], y[go], rise[go], a[go], b[go])
+
+    @staticmethod
+    def _polish_steps(best, who, C, s_c, y, rise, a, b) -> None:
+        """Raise ``best`` by each step polynomial's maximum: Newton in the two coarse cells
+        around its best coarse point; where another cell's coarse values plus ``rise`` still
+        reach what that found, the full search (:func:`polish_polynomials`) on the step."""
+        r = np.arange(C.shape[0])
+        i = np.argmax(y, axis=1)
+        lo, hi = s_c[r, np.maximum(i - 1, 0)], s_c[r, np.minimum(i + 1, COARSE - 1)]
+        found = np.maximum(y[r, i], _newton_max(C, s_c[r, i], lo, hi, 2 * NEWTON))
+        cell = np.maximum(y[:, :-1], y[:, 1:]) + rise[:, None]
+        k = np.arange(COARSE - 1)[None, :]
+        cell[(k == i[:, None] - 1) | (k == i[:, None])] = -np.inf
+        again = np.flatnonzero(cell.max(axis=1) >= found)
+        if again.size:
+            found[again] = np.maximum(found[again], polish_polynomials(C[again], a[again], b[again]))
+        np.maximum.at(best, who, found)
 
     def _merge(self, side: int, w: int, u: np.ndarray, s0: int, Z, times, piece: int, key: int,
                best: np.ndarray) -> None:
@@ -502,9 +579,18 @@ def polish_polynomials(C: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarra
     i = np.argmax(y, axis=1)
     best = y[rows, i]
     lo, hi, x = s[rows, np.maximum(i - 1, 0)], s[rows, np.minimum(i + 1, GRID - 1)], s[rows, i]
+    out[ok] = np.maximum(best, _newton_max(C, x, lo, hi, NEWTON))
+    return out
+
+
+def _newton_max(C: np.ndarray, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, steps: int) -> np.ndarray:
+    """The largest value of each polynomial row of C on its bracket [lo, hi] around x, by
+    safeguarded Newton steps on ``p' = 0`` (a bisection step wherever Newton would leave the
+    bracket or p is not concave there): the best of p at the last x and the bracket's ends."""
+    T = C.shape[1]
     D1 = C[:, 1:] * np.arange(1, T)
     D2 = D1[:, 1:] * np.arange(1, T - 1)
-    for _ in range(NEWTON):
+    for _ in range(steps):
         d1, d2 = _horner_rows(D1, x), _horner_rows(D2, x)
         lo = np.where(d1 > 0, x, lo)                 # the maximum lies where p' changes sign
         hi = np.where(d1 < 0, x, hi)
@@ -512,5 +598,4 @@ def polish_polynomials(C: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarra
             step = x - d1 / d2
         good = (d2 < 0) & (step > lo) & (step < hi)
         x = np.where(good, step, 0.5 * (lo + hi))
-    out[ok] = np.maximum(best, np.maximum(_horner_rows(C, x), np.maximum(_horner_rows(C, lo), _horner_rows(C, hi))))
-    return out
+    return np.maximum(_horner_rows(C, x), np.maximum(_horner_rows(C, lo), _horner_rows(C, hi)))

@@ -102,10 +102,12 @@ NOT_RUN: dict[str, str] = {
     "simulate sewing --vary C4=normal(260N*m/rad,5%) --vary U12=normal(1.375,2%) --runs 10000 --seed 1 "
     "--limit main_torque_amplitude_N_m<=0.2N*m --csv rows.csv":
         "10,000 runs (the README's 100-run study of the same inputs runs here; benchmarks/studies.py times it)",
+    "simulate sewing --set roller_eccentricity=2mm":
+        "a run of 30-55 s that tests/test_hard_cases_cli.py runs as written (with --json and --csv) against "
+        "an independent Radau reference",
 }
 # commands over 10 s (on the 2-core machine, beside other work): run, marked slow
 SLOW: set[str] = {
-    "simulate sewing --set roller_eccentricity=2mm",                    # 55 s: Radau, nonlinear
     "simulate sewing --angle-loads",                                    # 24 s: Radau, nonlinear
     "simulate roller-table --method radau --rtol 1e-9",                 # 23 s
     "simulate roller-table --set rollers=20 --set roller_load=6N*m",    # 14 s (slow in the figure test too)

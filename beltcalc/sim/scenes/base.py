@@ -624,7 +624,7 @@ def stall_checks(torque: float, speed: float | None, breakdown: float, where: st
     ``speed`` [rad/s] (None: not checked) in the direction of its synchronous speed (always
     forwards, > 0): loads that turn the motor backwards against the torque it drives
     with have stalled the train. ``where``: the window, for the rule. ``rising``: the motor
-    gains speed through the window (a start-up): its mean torque is not a stall verdict.
+    gains speed through the window (a start-up): its mean torque check is n/a, not a verdict.
 
     >>> [c.verdict for c in stall_checks(2.0, 150.0, 3.0, "t >= 0.5 s")]
     ['pass', 'pass']
@@ -633,9 +633,10 @@ def stall_checks(torque: float, speed: float | None, breakdown: float, where: st
     """
     from beltcalc.checks import Check
 
-    out = [] if rising else [
-        Check("motor_mean_torque", "motor mean torque", abs(torque), breakdown, "N m",
-              rule=f"{where}, against the breakdown torque M_c: beyond it the motor stalls", signals=signals)]
+    out = [Check("motor_mean_torque", "motor mean torque", None if rising else abs(torque), breakdown, "N m",
+                 rule=f"{where}, against the breakdown torque M_c: beyond it the motor stalls", signals=signals,
+                 reason="the motor still gains speed through the window (a start-up): its mean torque goes into "
+                        "accelerating the train, no verdict on a stall" if rising else "")]
     if speed is not None:
         out.append(Check("motor_direction", "motor speed, mean", speed, 0.0, "rad/s", kind="min",
                          rule=f"{where}, in the direction of its synchronous speed: at or below 0 the loads turn the "

@@ -95,3 +95,27 @@ def test_a_running_drive_has_no_stall():
     assert checks["motor_mean_torque"]["verdict"] == "pass"
     # the main shaft's steady speed, 227.86 rad/s (sewing.steady_speed's doctest), times U12 = 1.375
     assert checks["motor_direction"]["value"]["value"] == pytest.approx(227.859 * 1.375, rel=1e-3)
+
+
+# --- R15: a run far too stiff for its tolerance is refused at its pace, not after its budget ---
+def test_a_pace_that_cannot_finish_in_the_budget_stops_the_run():
+    import beltcalc.sim.core as core
+
+    cfg = core.SolverConfig(max_seconds=10.0)
+    budget = core._budget(cfg, t_end=1.0)
+    budget[3] -= 6.0                       # 6 s of computing spent (past PACE_AFTER)
+    budget[0] = 256                        # the pace is judged every 256 calls
+    assert not core._over(budget, 0.5)     # 6 s for half the run: 12 s in all, within 5 x 10 s
+    assert core._over(budget, 0.01) and budget[6] == "pace"     # 600 s in all
+    message = core._budget_message("radau", 0.01, cfg, budget)
+    assert "at that pace the run would take about" in message and "beyond 10 s" in message
+
+
+@pytest.mark.slow
+def test_a_stiff_damper_is_refused_in_seconds_naming_the_estimate():
+    # issue 27 R15: d3 = 5.2e6 N m s/rad; the error estimate's Radau at 1/100 of the tolerances
+    # reached 0.0046 s of 0.05 s in 120 s, then exit 1 (123 s in all): now refused at its pace
+    # (a pace refusal, "at that pace", comes before the budget's end: no clock asserted here)
+    result = run("simulate", "sewing", "--angle-loads", "--t-end", "0.05s", "--samples", "51", "--window", "0.02s",
+                 "--set", "d3=5.2e6 N*m*s/rad")
+    one_error_line(result, 1, "the error estimate's second computation", "at that pace", "beyond 120 s")

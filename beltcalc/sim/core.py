@@ -76,9 +76,37 @@ class _Budget(Exception):
     pass
 
 
-def _budget(cfg: SolverConfig) -> list:
-    """[calls so far, max_rhs_calls, the monotonic time by which the run must end]."""
-    return [0, cfg.max_rhs_calls, time.monotonic() + cfg.max_seconds]
+PACE_AFTER = 5.0    # seconds of computing after which a scipy run's pace is judged ...
+PACE_FACTOR = 5.0   # ... and it stops where that pace would take this many times its max_seconds
+
+
+def _budget(cfg: SolverConfig, t_end: float = 0.0) -> list:
+    """[calls so far, max_rhs_calls, the monotonic time by which the run must end, its start,
+    t_end, max_seconds, why it stopped ("calls", "time" or "pace")]."""
+    now = time.monotonic()
+    return [0, cfg.max_rhs_calls, now + cfg.max_seconds, now, float(t_end), cfg.max_seconds, ""]
+
+
+def _over(budget: list, t: float) -> bool:
+    """Whether a scipy run at time ``t`` has spent its budget: its right-hand-side calls, its
+    computing time, or (judged every 256 calls after PACE_AFTER s) a pace at which reaching
+    t_end would take over PACE_FACTOR times its computing time: a run many decades too stiff
+    for its tolerance is refused in seconds, not after its whole budget (issue 27 R15: the
+    error estimate's Radau at 1/100 of the tolerances reached 0.0046 s of 0.05 s in 120 s)."""
+    if budget[0] > budget[1]:
+        budget[6] = "calls"
+        return True
+    if budget[0] & 255:
+        return False
+    now = time.monotonic()
+    if now > budget[2]:
+        budget[6] = "time"
+        return True
+    spent = now - budget[3]
+    if budget[4] > 0 and spent > PACE_AFTER and spent * budget[4] > PACE_FACTOR * budget[5] * max(t, 0.0):
+        budget[6] = "pace"
+        return True
+    return False
 
 
 def _initial(network: Network, x0: np.ndarray | None) -> np.ndarray:
@@ -284,7 +312,7 @@ def _system(network: Network, taut, t_mid: float, budget: list[int]):
 
     def rhs(t, x):
         budget[0] += 1
-        if budget[0] > budget[1] or (budget[0] & 255 == 0 and time.monotonic() > budget[2]):
+        if _over(budget, t):
             raise _Budget(t)
         dx = A @ x + B @ gen(t)
         if nonlinear:
@@ -363,7 +391,7 @@ def _ivp(name: str, uses_jac: bool):
     def run(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
         from scipy.integrate import solve_ivp    # here, not at the top: the exact path needs none of it
 
-        budget = _budget(cfg)
+        budget = _budget(cfg, t[-1])
         steps = [0]
         solver = _counting(name, steps)
         N, m, t_end = t.size, network.size, t[-1]
@@ -430,7 +458,7 @@ def _ivp(name: str, uses_jac: bool):
 def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
     from scipy.integrate import odeint    # here, not at the top: the exact path needs none of it
 
-    budget = _budget(cfg)
+    budget = _budget(cfg, t[-1])
     starts = network.segment_starts(t[-1])
     delta, force = network.strand_rows()
     gen = _generators(network)
@@ -449,7 +477,7 @@ def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
 
     def rhs(tt, x):    # the raw right-hand side: each strand taut or slack by its own state
         budget[0] += 1
-        if budget[0] > budget[1] or (budget[0] & 255 == 0 and time.monotonic() > budget[2]):
+        if _over(budget, tt):
             raise _Budget(tt)
         (A, B), _ = mode(tt, x)
         dx = A @ x + B @ gen(tt)
@@ -518,6 +546,11 @@ def _budget_message(method: str, reached: float, cfg: SolverConfig, budget: list
         why = ("the solution is hard at this tolerance, switches too often, or the model is many decades stiffer in "
                "one part?")
         instead = "`method` exact, or a looser `rtol`/`atol`" if exact else "a looser `rtol`/`atol`"
+    if budget[6] == "pace":
+        spent = time.monotonic() - budget[3]
+        return (f"method {method.lower()} stopped at t = {reached:.6g} s of {budget[4]:g} s after {spent:.3g} s of "
+                f"computing ({budget[0]} right-hand-side calls): at that pace the run would take about "
+                f"{spent * budget[4] / max(reached, 1e-300):.3g} s, beyond {cfg.max_seconds:g} s ({why}); try {instead}")
     spent = (f"{cfg.max_rhs_calls} right-hand-side calls" if budget[0] > budget[1] else
              f"{cfg.max_seconds:g} s of computing ({budget[0]} right-hand-side calls)")
     return f"method {method.lower()} stopped at t = {reached:.6g} s after {spent} ({why}); try {instead}"
@@ -728,7 +761,11 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
         label = "exact solution"
     else:
         tight = SolverConfig("radau", cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, cfg.max_events, False)
-        ref = METHODS["radau"](network, t, x0, tight)[0][n:2 * n]
+        try:
+            ref = METHODS["radau"](network, t, x0, tight)[0][n:2 * n]
+        except SimulationError as e:
+            raise SimulationError(f"the error estimate's second computation (radau at 1/100 of the tolerances, "
+                                  f"rtol {tight.rtol:.2g}): {e}") from None
         label = "radau at 1/100 of the tolerances"
     names = network.state_names()
     result.extra["error_tol"] = cfg.error_tol

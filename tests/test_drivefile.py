@@ -4,6 +4,7 @@ couplings with their printed error, and one clear line for every malformed file.
 
 import math
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -319,3 +320,33 @@ def test_conveyor_example_runs_every_element_kind_to_its_static_balance():
     r_pulley = 40 * 0.010 / math.pi / 2
     pull = r.summary("F_upper", 2.8, 3.0).mean - r.summary("F_lower", 2.8, 3.0).mean
     assert pull == pytest.approx(30.0 / r_pulley, rel=1e-4)
+
+
+def test_a_load_frequency_in_hz_is_cycles_per_second(tmp_path):
+    # docs/drive_files.md: a load's `frequency` is "rad/s or Hz"; "5 Hz" was refused as a
+    # rotational speed (the rotating node's pick of the key's units) and --set too
+    import json
+
+    from click.testing import CliRunner
+
+    from beltcalc.cli.main import cli
+
+    text = (Path(__file__).resolve().parent.parent / "catalogs/drives/conveyor.toml").read_text()
+    assert 'frequency = "31.4 rad/s"' in text
+    figures = {}
+    for label, value in (("hz", "5 Hz"), ("rad", "31.41592653589793 rad/s")):
+        path = tmp_path / f"{label}.toml"
+        path.write_text(text.replace('frequency = "31.4 rad/s"', f'frequency = "{value}"'))
+        res = CliRunner().invoke(cli, ["simulate", "drive", str(path), "--t-end", "1s", "--window", "0.5s",
+                                       "--samples", "101", "--json"])
+        assert res.exit_code == 0, res.output
+        figures[label] = json.loads(res.stdout)["couplings"]
+    res = CliRunner().invoke(cli, ["simulate", "drive", str(tmp_path / "rad.toml"), "--t-end", "1s", "--window",
+                                   "0.5s", "--samples", "101", "--set", "drum2_load.frequency=5Hz", "--json"])
+    assert res.exit_code == 0, res.output
+    figures["set"] = json.loads(res.stdout)["couplings"]
+    for name, fig in figures["rad"].items():
+        for key in ("torque_amplitude", "torque_max"):
+            want = fig[key]["value"]
+            assert figures["hz"][name][key]["value"] == pytest.approx(want, rel=1e-12, abs=1e-12 * abs(want) + 1e-15)
+            assert figures["set"][name][key]["value"] == pytest.approx(want, rel=1e-12, abs=1e-12 * abs(want) + 1e-15)

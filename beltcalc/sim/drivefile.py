@@ -160,7 +160,7 @@ KEYS: dict[str, dict[str, Key]] = {
         "frequency": Key("rad/s|Hz", "frequency of the sine in time", low=">=0"),
         "order": Key("", "instead of frequency: the sine locked to the node's angle, sin(order phi)", low=">0"),
         "phase": Key("rad", "phase of the sine"),
-        "start": Key("s", "the load acts from here on", low=">=0"),
+        "start": Key("s", "the sine acts from here on (torque from 0; a later step: table)", low=">=0"),
         "table": Key("table:s,N*m|N", "tabulated part [[t, torque], ...]"),
     },
 }
@@ -302,8 +302,8 @@ class DriveFile:
         """The SI unit of ``key`` of entry ``e``: a key of either dimension (a torque or a
         force, ``N*m|N``) takes the one of the node it acts on (rotating or translating)."""
         unit = KEYS[e.section][key].unit
-        if "|" not in unit or e.section not in ("coupling", "load", "motor"):
-            return unit
+        if "|" not in unit or e.section not in ("coupling", "load", "motor") or "Hz" in unit.split("|"):
+            return unit             # (a frequency in time, rad/s or Hz, is the same on either node)
         node = e.raw.get("between", [None])[0] if e.section == "coupling" else e.raw.get("node")
         entry = self.nodes.get(node) if isinstance(node, str) else None
         if entry is None:

@@ -5,7 +5,7 @@
 Splits the invocations evenly over the commands, runs each in-process in its own empty
 folder, and counts per command: exit 0/1/2, each failed invariant (hang, exit code,
 traceback, internal error, stderr not one ``Error:`` line, invalid JSON, file left after
-a failure, temporary file left), with the command line of each failure. Writes the counts
+a failure, temporary file left, stalled drive reported as running), with the command line of each failure. Writes the counts
 with the date, the command, the machine's load and wall time to
 ``benchmarks/results/fuzz.md`` (``--out``).
 """
@@ -96,7 +96,7 @@ def main(argv=None) -> int:
 
 PROBLEMS = ["hang", "exit code", "exception", "traceback", "internal error", "stderr not one Error: line",
             "stderr on success not warning:/wrote lines", "invalid JSON", "file left after failure",
-            "temporary file left"]
+            "temporary file left", "stalled drive reported as running"]
 
 
 def _problem_count(counts, prefix: str) -> int:

@@ -139,18 +139,24 @@ def roller_scales(doc, n_rollers, strands):
     return {"rad/s": rad, "N*m": nm, "N": newton}
 
 
+def compare_figure(run, doc, S, report, scales, name, got, key, unit, amplitude=False):
+    """One reported figure against the reference's ``key`` (``amplitude``: half its max - min),
+    at 10x the run's estimate on the unit's scale ``S[unit]`` plus the reference's own error."""
+    if amplitude:
+        (hi, e1), (lo, e2) = ref_value(doc, f"max_{key}"), ref_value(doc, f"min_{key}")
+        want, e = (hi - lo) / 2, (e1 + e2) / 2
+    else:
+        want, e = ref_value(doc, key)
+    scales.append(S[unit])
+    check(name, got, want, tol(run, S[unit], e), report, e)
+
+
 def compare_roller_table(run, doc, arrays, csv, title, n_rollers=3, strands=ROLLER_STRANDS3):
     S = roller_scales(doc, n_rollers, strands)
     report, scales = [], []
 
     def cmp(name, got, key, unit, amplitude=False):
-        if amplitude:
-            (hi, e1), (lo, e2) = ref_value(doc, f"max_{key}"), ref_value(doc, f"min_{key}")
-            want, e = (hi - lo) / 2, (e1 + e2) / 2
-        else:
-            want, e = ref_value(doc, key)
-        scales.append(S[unit])
-        check(name, got, want, tol(run, S[unit], e), report, e)
+        compare_figure(run, doc, S, report, scales, name, got, key, unit, amplitude)
 
     for k in range(1, n_rollers + 1):
         r = run["rollers"][str(k)]
@@ -335,13 +341,7 @@ def test_stiffness_ratio_1e6_against_radau_in_twist_coordinates(tmp_path):
     report, scales = [], []
 
     def cmp(name, got, key, unit, amplitude=False):
-        if amplitude:
-            (hi, e1), (lo, e2) = ref_value(doc, f"max_{key}"), ref_value(doc, f"min_{key}")
-            want, e = (hi - lo) / 2, (e1 + e2) / 2
-        else:
-            want, e = ref_value(doc, key)
-        scales.append(S[unit])
-        check(name, got, want, tol(run, S[unit], e), report, e)
+        compare_figure(run, doc, S, report, scales, name, got, key, unit, amplitude)
 
     for c in ("stiff", "jaw"):
         fig = run["couplings"][c]

@@ -4,12 +4,18 @@ A check is ``value <= limit`` (``kind="max"``) or ``value >= limit`` (``kind="mi
 Its utilisation is value/limit (max) or limit/value (min): 1 is exactly at the limit,
 above 1 fails. A check that cannot be made (a table the catalog lacks, an input not
 given) has verdict ``"n/a"`` and says why in ``reason``; it never fails silently.
+
+Every check is made from a :class:`Rule` of :data:`RULES` (``RULES["chain_safety"].check(...)``):
+one definition of each limit, its kind, unit and source, whichever command meets the
+quantity (``chain`` and a simulated chain strand, ``tension`` and a drive file's fitted
+belt damping). docs/design_checks.md lists them (tested against the registry).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Mapping
 
 
 @dataclass(frozen=True)
@@ -25,6 +31,8 @@ class Check:
     rule: str = ""
     reason: str = ""           # why it is n/a
     signals: tuple[str, ...] = ()   # time signals whose magnitude the limit bounds (a plot draws it there)
+    level: float | None = None      # where it differs from ``limit``: the bound on ``signals``, in their unit
+                                    # (a safety factor's allowable force)
 
     @property
     def utilisation(self) -> float | None:
@@ -99,3 +107,148 @@ def figure(value: float | None, spec: str = ".4g") -> str:
 def failures(checks) -> list[Check]:
     """The checks that fail."""
     return [c for c in checks if c.verdict == "FAIL"]
+
+
+# --- the registry of rules ---------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Rule:
+    """One design rule: what is compared (``quantity``), against what (``limit``, or where the
+    limit is data of the case, ``limit_name``), which way (``kind``), in which ``unit``, and
+    where the rule comes from (``source``: document, page or table; "assumed" or "our rule"
+    where it is ours). ``met_by``: the commands whose checks use it.
+
+    :meth:`check` makes the :class:`Check` of a value: every command meeting the quantity
+    gets the same limit, kind and rule text; ``detail`` says what the value is in this case.
+
+    >>> r = RULES["chain_safety"]
+    >>> c = r.check(5.29, key="safety", name="10B-1 breaking-load safety", detail="F = K_s F_pull + q v^2")
+    >>> c.limit, c.kind, c.verdict, c.rule.split(" (")[0]
+    (6.0, 'min', 'FAIL', 'F_B / F >= 6')
+    >>> RULES["belt_tension_member"].check(450.0, 2200.0).verdict
+    'pass'
+    """
+
+    key: str
+    label: str
+    limit: float | None          # None: the limit is data of the case (``limit_name``), given to :meth:`check`
+    unit: str
+    kind: str                    # "max": value <= limit; "min": value >= limit
+    quantity: str                # the compared quantity in symbols
+    source: str
+    limit_name: str = ""         # what the limit is where it is data (the catalog's F_Tadm)
+    met_by: tuple[str, ...] = ()
+
+    @property
+    def formula(self) -> str:
+        """The rule in symbols: ``"F_B / F >= 6"``, ``"F <= F_Tadm"``."""
+        op = "<=" if self.kind == "max" else ">="
+        if self.limit is None:
+            return f"{self.quantity} {op} {self.limit_name}"
+        unit = "" if self.unit in ("", "1") else f" {self.unit}"
+        return f"{self.quantity} {op} {self.limit:g}{unit}"
+
+    def text(self, detail: str = "") -> str:
+        """The rule as a check states it: formula, source, then ``detail`` (this case)."""
+        return f"{self.formula} ({self.source})" + (f"; {detail}" if detail else "")
+
+    def check(self, value: float | None, limit: float | None = None, *, key: str | None = None,
+              name: str | None = None, detail: str = "", reason: str = "", signals: tuple[str, ...] = (),
+              level: float | None = None, unit: str | None = None, cls: type | None = None, **extra) -> Check:
+        """The :class:`Check` of ``value`` [``unit``] by this rule. ``limit``: only for a rule
+        whose limit is data (None there with a ``reason``: n/a); a fixed limit cannot be given.
+        ``key``/``name``: the check's own (default: the rule's); ``unit``: another spelling
+        of the rule's unit (``"N*m"`` for ``"N m"``); ``cls``: a :class:`Check` subclass (its
+        ``extra`` fields)."""
+        if self.limit is not None:
+            if limit is not None:
+                raise ValueError(f"rule {self.key!r} has the fixed limit {self.limit:g}; it takes no other")
+            limit = self.limit
+        if unit is not None and unit.replace("*", " ") != self.unit.replace("*", " "):
+            raise ValueError(f"rule {self.key!r} is in {self.unit!r}, not {unit!r}")
+        return (cls or Check)(key or self.key, name or self.label, value, limit, unit or self.unit, kind=self.kind,
+                              rule=self.text(detail), reason=reason, signals=tuple(signals), level=level, **extra)
+
+
+_SHEET = "the motor's data sheet (catalogs/motors)"
+_BREAKDOWN = "Mamatova et al. 2016 eq. 2: an induction motor's linearised characteristic, up to its breakdown torque M_c"
+
+#: Every design rule a command checks, by key (:class:`Rule`); docs/design_checks.md's table.
+RULES: Mapping[str, Rule] = {r.key: r for r in (
+    # roller chains
+    Rule("chain_rating", "chain power rating", None, "W", "max", "n_d K_s P",
+         "ACA rating formulas, Shigley 9th ed. eq. 17-32/17-33, K2 Table 17-23",
+         limit_name="K2 min(H1, H2)", met_by=("chain",)),
+    Rule("chain_safety", "breaking-load safety", 6.0, "1", "min", "F_B / F",
+         "Diamond Chain, technical engineering guide: the load in service at most 1/6 of the minimum ultimate "
+         "tensile strength F_B (ISO 606 / ASME B29.1 minimum)",
+         met_by=("chain", "simulate roller-table", "simulate drive")),
+    # timing belts
+    Rule("belt_tooth_shear", "tooth shear", None, "N", "max", "F_U c2",
+         "BRECO F_tspec(n) tables; Wojtkowiak et al. 2021 sec. 3.2; c2: Tsubaki Tables 1-4",
+         limit_name="F_tspec(n) b z_e", met_by=("belt-drive",)),
+    Rule("belt_tension_member", "tension member", None, "N", "max", "F",
+         "the belt maker's allowable tension F_Tadm per width (Elatech catalogue p. 55; catalogs/belts)",
+         limit_name="F_Tadm", met_by=("belt-drive", "tension", "simulate drive")),
+    Rule("belt_pretension", "installation tension", None, "N", "min", "F_v",
+         "Elatech catalogue p. 55 (linear); endless: slack side T_2 = F_v - F_U / 2 >= 0, Shigley eq. 17-1",
+         limit_name="F_U (linear drive) or F_U / 2 (endless drive)", met_by=("belt-drive",)),
+    Rule("pulley_teeth", "pulley teeth", None, "1", "min", "z_1", "the belt maker's z_min (catalogs/belts)",
+         limit_name="z_min", met_by=("belt-drive",)),
+    Rule("teeth_in_mesh", "teeth in mesh", 6.0, "1", "min", "z_e",
+         "Tsubaki Table 6: meshing factor 1.0 from 6 teeth in mesh", met_by=("belt-drive",)),
+    Rule("damping_fit", "damping fit R^2", 0.9, "1", "min", "R^2",
+         "our limit, on the line through the origin fitted to the catalog's F_tspec(n) (DESIGN.md 2.1; "
+         "Wojtkowiak et al. 2021 give none): below it b_TB = |slope| describes the table poorly",
+         met_by=("tension", "simulate drive")),
+    Rule("belt_mass", "belt mass", None, "kg", "max", "m_belt",
+         "plausibility, our rule: Wojtkowiak et al. 2021 eq. 7-11 treat the belt as a spring with a small added "
+         "mass on the carriage", limit_name="the mass it moves", met_by=("tension", "simulate linear-axis")),
+    Rule("belt_slack", "belt force", None, "N", "max", "|F_belt|",
+         "Wojtkowiak et al. 2021 eq. 10-11: above the pretension the slack span goes slack",
+         limit_name="F_t,peak (the pretension)", met_by=("simulate linear-axis",)),
+    Rule("span_taut", "belt span force, min", 0.0, "N", "min", "F_min",
+         "our rule: a tension-only span pulls only while its force is > 0", met_by=("simulate sewing",)),
+    # motors
+    Rule("motor_peak_torque", "motor peak torque", None, "N m", "max", "T_peak", _SHEET, limit_name="T_max",
+         met_by=("motor-size", "simulate linear-axis")),
+    Rule("motor_rms_torque", "motor RMS torque", None, "N m", "max", "T_rms", _SHEET,
+         limit_name="T_n (or the continuous zone at the mean speed)", met_by=("motor-size", "simulate linear-axis")),
+    Rule("motor_speed", "motor speed", None, "rad/s", "max", "n_peak", _SHEET, limit_name="n_max",
+         met_by=("motor-size", "simulate linear-axis")),
+    Rule("motor_inertia_ratio", "load/motor inertia ratio", None, "1", "max", "J_load / J_M",
+         "Parker's guidance for servos", limit_name="`inertia_ratio_limit` (default 10)", met_by=("motor-size",)),
+    Rule("motor_zone", "torque-speed zone", None, "N m", "max", "(1 + `peak_margin`) |T|",
+         _SHEET + " (or an assumed zone)", limit_name="the intermittent zone's torque at that speed",
+         met_by=("motor-size",)),
+    Rule("gearbox_rating", "gearbox rating", None, "", "max", "speed or torque",
+         "the gearbox's catalog (catalogs/gearboxes)", limit_name="its rating", met_by=("motor-size",)),
+    Rule("breakdown_peak", "motor peak torque", None, "N m", "max", "|M|", _BREAKDOWN, limit_name="M_c",
+         met_by=("simulate sewing", "simulate roller-table", "simulate drive")),
+    Rule("breakdown_mean", "motor mean torque", None, "N m", "max", "|M_mean|",
+         _BREAKDOWN + "; beyond it the motor stalls", limit_name="M_c",
+         met_by=("simulate sewing", "simulate roller-table", "simulate drive")),
+    Rule("motor_direction", "motor speed, mean", 0.0, "rad/s", "min", "omega_mean",
+         "our rule: at or below 0 the loads turn the stalled train backwards against the motor",
+         met_by=("simulate sewing", "simulate roller-table", "simulate drive")),
+    # simulation
+    Rule("error_estimate", "error estimate", None, "1", "max", "error / scale",
+         "DESIGN.md 3.1: the run's error estimate against the tolerance it was given",
+         limit_name="the accepted tolerance", met_by=("simulate",)),
+    Rule("resonance", "load vs resonance", 0.1, "1", "min", "|f_e - f_n| / f_n",
+         "an assumed design margin: closer, the response is resonant", met_by=("simulate", "study")),
+    Rule("window_settled", "transient at the window start", 1e-3, "1", "max", "r",
+         "an assumed limit: the slowest pole has decayed ln(1000) time constants", met_by=("simulate", "study")),
+    Rule("window_periods", "steady window", 1.0, "1", "min", "whole load periods",
+         "our rule: the window's means and amplitudes are of whole cycles", met_by=("simulate sewing",)),
+)}
+
+
+def rules_table() -> str:
+    """docs/design_checks.md's table of :data:`RULES` (markdown), one row per rule."""
+    lines = ["| rule | check | rule in symbols | limit | unit | source | met by |", "|---|---|---|---|---|---|---|"]
+    for r in RULES.values():
+        cells = (f"`{r.key}`", r.label, r.formula, f"{r.limit:g}" if r.limit is not None else r.limit_name,
+                 r.unit or "-", r.source, ", ".join(r.met_by))
+        lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+    return "\n".join(lines)

@@ -26,7 +26,7 @@ from typing import Iterable
 
 from beltcalc import chain as cm
 from beltcalc.catalogs import Chain
-from beltcalc.checks import Check, failures
+from beltcalc.checks import RULES, Check, failures
 from beltcalc.errors import InputError, require_positive, require_range
 
 HORSEPOWER = 745.69987158227022        # W, mechanical horsepower (550 ft lbf/s)
@@ -34,7 +34,6 @@ INCH = 0.0254                          # m
 RPM = math.pi / 30.0                   # rad/s per rev/min
 # Multiple-strand factors K2, Shigley Table 17-23 [1]
 STRAND_FACTORS = {1: 1.0, 2: 1.7, 3: 2.5, 4: 3.3, 5: 3.9, 6: 4.6, 8: 6.0}
-MIN_SAFETY_FACTOR = 6.0                # [3]
 LUBRICATION = {"A": "manual or drip", "B": "oil bath or slinger disc", "C": "oil stream (pump)"}   # [5]
 
 
@@ -205,7 +204,7 @@ def check_chain(chain: Chain, inp: ChainInputs, power: float, required: float) -
     pull = power / v
     f_c = chain.mass * v * v if chain.mass is not None else None
     safety = chain.breaking_load / (inp.service_factor * pull + (f_c or 0.0))   # no mass: without q v^2
-    carries = rated >= required and safety >= MIN_SAFETY_FACTOR
+    carries = rated >= required and RULES["chain_safety"].check(safety).verdict == "pass"     # [3]
     return ChainCandidate(chain, rated, governing, required / rated, v, pull, f_c, safety, carries)
 
 
@@ -295,10 +294,8 @@ def chain_checks(c: ChainCandidate, required: float) -> list[Check]:
     name = c.chain.name
     fc = "" if c.centrifugal is not None else "; no chain mass in the catalog: q v^2 left out"
     return [
-        Check("rating", f"{name} power rating", required, c.rated_power, "W",
-              rule=f"n_d K_s P <= K2 min(H1, H2), the {c.governing} limit (ACA formulas, Shigley eq. 17-32/33); "
-                   "over it the chain does not carry the drive"),
-        Check("safety", f"{name} breaking-load safety", c.safety_factor, MIN_SAFETY_FACTOR, "1", kind="min",
-              rule=f"F_B / (K_s F + q v^2) >= {MIN_SAFETY_FACTOR:g} (Diamond Chain; F_B the ISO 606 / ASME B29.1 "
-                   f"minimum){fc}"),
+        RULES["chain_rating"].check(required, c.rated_power, key="rating", name=f"{name} power rating",
+                                    detail=f"the {c.governing} limit; over it the chain does not carry the drive"),
+        RULES["chain_safety"].check(c.safety_factor, key="safety", name=f"{name} breaking-load safety",
+                                    detail=f"F = K_s F_pull + q v^2, the service factor K_s for the shocks{fc}"),
     ]

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 
 from beltcalc import belt as bm
 from beltcalc.catalogs import BeltProfile, BeltWidth, Thread
-from beltcalc.checks import Check, failures
+from beltcalc.checks import RULES, Check, failures
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.screw import BoltTorque, bolt_torque
 from beltcalc.si import convert_fields
@@ -102,11 +102,6 @@ def _catalog_value(given: float | None, row: BeltWidth | None, key: str, option:
             param=option,
         )
     return value
-
-
-#: Smallest R^2 of the damping fit accepted without a warning (our limit; DESIGN.md 2.1 asks
-#: for the fit's R^2 to be reported, the paper gives none).
-FIT_R_SQUARED_MIN = 0.9
 
 
 def validate_inputs(inp: TensionInputs) -> None:
@@ -240,23 +235,20 @@ def tension_checks(belt: BeltProfile, inp: TensionInputs, force: float, f_tadm: 
     """
     where = f"{belt.name} {inp.width * 1e3:g} mm"
     tadm_from = "given (`f_tadm`)" if inp.f_tadm is not None else f"the catalog ({belt.source.document})"
-    checks = [Check("belt_tension", f"belt tension ({where})", force, f_tadm, "N",
-                    rule=f"F_t,peak <= F_Tadm, the allowable tension from {tadm_from}; above it the belt is "
-                         "overloaded: choose a wider belt (`select_width`) or lower `accel` or `mass`")]
-    fit_rule = (f"R^2 >= {FIT_R_SQUARED_MIN:g} of the line through the origin fitted to the catalog's F_tspec(n) "
-                "(DESIGN 2.1; the limit is ours): below it b_TB = |slope| describes the table poorly; give `damping` "
-                "from a measurement")
+    checks = [RULES["belt_tension_member"].check(
+        force, f_tadm, key="belt_tension", name=f"belt tension ({where})",
+        detail=f"F = F_t,peak, F_Tadm from {tadm_from}; above it the belt is overloaded: choose a wider belt "
+               "(`select_width`) or lower `accel` or `mass`")]
+    fit_detail = "give `damping` from a measurement"
     if fit is not None:
-        checks.append(Check("damping_fit", "damping fit R^2", fit.r_squared, FIT_R_SQUARED_MIN, "1", kind="min",
-                            rule=fit_rule))
+        checks.append(RULES["damping_fit"].check(fit.r_squared, detail=fit_detail))
     else:
         why = "b_TB is given (`damping`)" if inp.damping is not None else "b_TB is the catalog's value, not fitted"
-        checks.append(Check("damping_fit", "damping fit R^2", None, FIT_R_SQUARED_MIN, "1", kind="min",
-                            rule=fit_rule, reason=why))
-    checks.append(Check("belt_mass", "belt mass on the span", m_belt, inp.mass, "kg",
-                        rule="belt mass on the span <= the moving mass `mass` (plausibility, our rule): eq. 7-11 "
-                             "treat the belt as a spring with a small added mass m_TB on the carriage; a belt "
-                             "heavier than what it moves is outside that model (check `center_distance`)"))
+        checks.append(RULES["damping_fit"].check(None, detail=fit_detail, reason=why))
+    checks.append(RULES["belt_mass"].check(
+        m_belt, inp.mass, name="belt mass on the span",
+        detail="m_belt on the span, against the moving mass `mass`: a belt heavier than what it moves is outside "
+               "that model (check `center_distance`)"))
     return checks
 
 

@@ -56,6 +56,16 @@ def specific_tooth_load(table: tuple[tuple[float, float], ...], speed: float) ->
     Linear interpolation in the table of (speed [rad/s], F_tspec [N/m]) pairs [2]; a
     speed beyond the last row is refused (the table is not extrapolated).
 
+    Notes
+    -----
+    The catalogs hold every row the maker prints (40 to 48 rows, 20 to 500 rpm apart), so
+    the result equals the printed value at a printed speed and lies between the two
+    neighbouring printed values elsewhere. The printed curves fall and are convex, so a
+    chord lies above the curve between rows: by at most 1.4 % on the built-in tables
+    (BRECO T20, 100-200 rpm), bounded from the neighbouring rows' slopes; the bound and
+    its derivation are in docs/catalogs.md. With only a few rows of a table the chords
+    overshot by up to 19 % (issue 28).
+
     >>> rpm = math.pi / 30
     >>> round(specific_tooth_load(((0.0, 3640.0), (1000 * rpm, 2649.0)), 500 * rpm), 6)
     3144.5
@@ -71,6 +81,20 @@ def specific_tooth_load(table: tuple[tuple[float, float], ...], speed: float) ->
         if s0 <= speed <= s1:
             return f0 + (f1 - f0) * (speed - s0) / (s1 - s0)
     return table[-1][1]
+
+
+def minimum_pulley_teeth_source(belt: BeltProfile) -> str:
+    """Where the pulley-teeth limit ``belt.z_min`` comes from, for the check's rule.
+
+    The maker's table gives z_min for a drive without contraflexure and a larger one with
+    a backward-bent idler (contraflexure); no idler is modelled here, so the check uses the
+    value without contraflexure and says so.
+    """
+    if not belt.z_min:
+        return f"the belt maker's z_min; none in the catalog for {belt.name}"
+    bent = (f"; with a contraflexure idler the maker asks z_min = {belt.z_min_contraflexure}, not modelled"
+            if belt.z_min_contraflexure else "; a contraflexure idler is not modelled")
+    return f"z_min = {belt.z_min} without contraflexure, {belt.source.document}{bent}"
 
 
 def tooth_shear_capacity(specific_load: float, width: float, teeth_meshing: float) -> float:
@@ -476,7 +500,7 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
         stock_a = tuple(geo.center_distance_for_length(d1, d2, t * belt.pitch) if t else None for t in stock)
 
     z_e_raw = z1 * wrap[0] / (2.0 * math.pi)
-    z_e = min(z_e_raw, belt.z_e_max) if belt.z_e_max else z_e_raw
+    z_e = float(min(z_e_raw, belt.z_e_max)) if belt.z_e_max else z_e_raw   # the maker's z_e max [2]
 
     force, force_source, force_warnings = _force(inp, d1)
     if inp.service_factor is not None:
@@ -539,7 +563,7 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
               rule=("F_v >= F_U (linear drive, Elatech p. 55)" if inp.layout == "linear"
                     else "F_v >= F_U / 2 (endless drive: slack side T_2 = F_v - F_U / 2 >= 0)")),
         Check("pulley_teeth", "pulley teeth", float(z1), float(belt.z_min) if belt.z_min else None, "1",
-              kind="min", rule="z_1 >= z_min of the catalog",
+              kind="min", rule=f"z_1 >= z_min ({minimum_pulley_teeth_source(belt)})",
               reason="" if belt.z_min else f"the catalog gives no z_min for {belt.name}"),
         Check("teeth_in_mesh", "teeth in mesh", z_e, float(MIN_TEETH_IN_MESH), "1", kind="min",
               rule="z_e >= 6 (Tsubaki Table 6: full capacity from 6 teeth in mesh)"),

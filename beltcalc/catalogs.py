@@ -69,7 +69,11 @@ class BeltProfile:
     """A timing-belt profile of one manufacturer, SI units.
 
     ``F_tspec`` is the specific tooth load table: pairs (pulley speed [rad/s],
-    allowable load per tooth and belt width [N/m]).
+    allowable load per tooth and belt width [N/m]), every row the maker prints.
+    ``z_min`` is the maker's fewest pulley teeth for a drive without contraflexure,
+    ``z_min_contraflexure`` with a backward-bent idler; ``d_min`` and
+    ``d_min_contraflexure`` the smallest tension-roller diameters [m] of the same table.
+    ``None`` where the source gives no value.
     """
 
     manufacturer: str
@@ -80,6 +84,9 @@ class BeltProfile:
     F_tspec: tuple[tuple[float, float], ...] = ()
     z_e_max: int | None = None
     z_min: int | None = None
+    z_min_contraflexure: int | None = None
+    d_min: float | None = None
+    d_min_contraflexure: float | None = None
     C_spec_per_F_Tadm: float | None = None
     damping: float | None = None
     damping_source: str = ""
@@ -194,7 +201,7 @@ class ServiceFactors:
 
 
 # Per kind: key -> SI unit ("" for plain numbers); keys marked required must be present.
-_BELT_KEYS = {"pitch": "m", "C_spec_per_F_Tadm": "", "damping": "N*s/m"}
+_BELT_KEYS = {"pitch": "m", "C_spec_per_F_Tadm": "", "damping": "N*s/m", "d_min": "m", "d_min_contraflexure": "m"}
 _BELT_ROW_KEYS = {"width": "m", "F_Tadm": "N", "C_spec": "N", "w_spec": "kg/m", "breaking": "N"}
 _FTSPEC_KEYS = {"speed": "rad/s", "load": "N/m"}
 _THREAD_KEYS = {"d": "m", "P": "m", "d2": "m", "flank_angle": "rad"}
@@ -409,8 +416,8 @@ class _Reader:
         out = []
         for i, e in enumerate(self.entries("belts")):
             where = f"belts[{i}]"
-            self.check_keys(e, [*_BELT_KEYS, "widths", "F_tspec", "z_e_max", "z_min", "stock_teeth",
-                                "open_length"], where)
+            self.check_keys(e, [*_BELT_KEYS, "widths", "F_tspec", "z_e_max", "z_min", "z_min_contraflexure",
+                                "stock_teeth", "open_length"], where)
             units = self.entry_units(e, where)
             nums = self.numbers(e, _BELT_KEYS, units, where, required=["pitch"])
             rows = []
@@ -435,7 +442,7 @@ class _Reader:
                 self.fail(f"{where}.F_tspec", f"{len(table)} row{'s' * (len(table) != 1)} from {speeds[0]:g} rad/s; the "
                                               "table needs a row at speed 0 and at least one more (it is interpolated)")
             ints = {}
-            for key in ("z_e_max", "z_min"):
+            for key in ("z_e_max", "z_min", "z_min_contraflexure"):
                 if key in e:
                     if not isinstance(e[key], int) or isinstance(e[key], bool) or e[key] <= 0:
                         self.fail(f"{where}.{key}", f"{e[key]!r} must be a whole number > 0")

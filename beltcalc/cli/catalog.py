@@ -14,7 +14,8 @@ from beltcalc.cli.output import (Row, console, dumps, display_unit, display_valu
 # Per kind and field: (SI unit as printed in JSON/CSV, display unit of the table).
 _UNITS = {
     "belt": {"pitch": ("m", "mm"), "C_spec_per_F_Tadm": ("1", ""), "damping": ("N s/m", ""),
-             "z_e_max": ("1", ""), "z_min": ("1", "")},
+             "z_e_max": ("1", ""), "z_min": ("1", ""), "z_min_contraflexure": ("1", ""),
+             "d_min": ("m", "mm"), "d_min_contraflexure": ("m", "mm")},
     "belt width": {"width": ("m", "mm"), "F_Tadm": ("N", ""), "C_spec": ("N", ""),
                    "w_spec": ("kg/m", ""), "breaking": ("N", "")},
     "F_tspec": {"speed": ("rad/s", "rpm"), "load": ("N/m", "N/cm")},

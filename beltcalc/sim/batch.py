@@ -333,7 +333,8 @@ def _sewing(plan, X: np.ndarray) -> list[list[float] | None]:
     speed mean and amplitude, acceleration amplitude, torque mean and amplitude; the motor's
     speed mean, torque mean and amplitude; the same in the exact periodic steady state) for
     every run of the chunk the batch can vouch for; None for the others."""
-    from beltcalc.sim.scenes.base import RESONANCE_MARGIN, check_timing, settling_check
+    from beltcalc.checks import RULES
+    from beltcalc.sim.scenes.base import check_timing, settling_check
     from beltcalc.sim.scenes.sewing import SHAFTS, STEADY_SIGNALS, build, whole_period_window
 
     opts = dict(plan.options)
@@ -417,8 +418,8 @@ def _sewing(plan, X: np.ndarray) -> list[list[float] | None]:
                 continue
             if est:
                 utils.append(err[j] / cfg.error_tol)
-            if np.isfinite(seps[j]):                   # resonance_check: separation >= RESONANCE_MARGIN
-                utils.append(RESONANCE_MARGIN / seps[j] if seps[j] > 0 else math.inf)
+            if np.isfinite(seps[j]):                   # resonance_check: separation >= the rule's margin
+                utils.append(RULES["resonance"].limit / seps[j] if seps[j] > 0 else math.inf)
             # settling_check: the transient left at the window start (the single run's check)
             settled = settling_check(nets[r], window[r][0], float(v["t_end"]))
             if settled and settled[0].value is not None:

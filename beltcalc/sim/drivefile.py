@@ -208,6 +208,7 @@ class Drive:
     spans: dict[str, float] = field(default_factory=dict)            # two-way span -> lever r [m]
     limits: dict[str, tuple[float, str]] = field(default_factory=dict)  # strand -> (force limit [N], its name)
     motors: list[tuple[str, str]] = field(default_factory=list)      # (torque signal, node)
+    fits: dict[str, tuple[float, str]] = field(default_factory=dict)  # belt span -> (R^2 of its damping fit, the fit)
     inputs: dict = field(default_factory=dict)                       # address -> (SI value, origin)
 
 
@@ -342,7 +343,7 @@ class DriveFile:
         t_end, samples, window = b.timing()
         drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
                       samples=samples, window=window, notes=b.notes, nodes=[n.name for n in net.nodes],
-                      torques=b.torques, spans=b.spans, limits=b.limits, motors=b.motor_signals,
+                      torques=b.torques, spans=b.spans, limits=b.limits, motors=b.motor_signals, fits=b.fits,
                       inputs=b.used)
         if b.rigid:
             drive.notes += _rigid_notes(self, values, catalog, net, b.rigid)
@@ -444,6 +445,7 @@ class _Builder:
         self.torques: list[tuple[str, str]] = []
         self.spans: dict[str, float] = {}
         self.limits: dict[str, tuple[float, str]] = {}
+        self.fits: dict[str, tuple[float, str]] = {}   # belt span -> (R^2, the fit), as `tension` checks it
         self.motor_signals: list[tuple[str, str]] = []
         self.rigid: list[str] = []
         self.used: dict = {}
@@ -730,8 +732,9 @@ class _Builder:
             z = max(1, round(math.pi * D / belt.pitch))
             z_e = bm.teeth_in_mesh(z, z, belt.pitch, length, belt.z_e_max)
             fit = bm.damping_from_tooth_load(belt.F_tspec, D, width, z_e)
-            return fit.damping, (f"(fitted to the catalog's F_tspec(n) on {pulley}, D = {D * 1e3:.4g} mm, "
-                                 f"z_e = {z_e:g}, R^2 = {fit.r_squared:.3f})")
+            how = f"fitted to the catalog's F_tspec(n) on {pulley}, D = {D * 1e3:.4g} mm, z_e = {z_e:g}"
+            self.fits[e.name] = (fit.r_squared, how)
+            return fit.damping, f"({how}, R^2 = {fit.r_squared:.3f})"
         if belt.damping is not None:
             return belt.damping, f"(catalog value: {belt.damping_source or belt.source})"
         self.f.fail(e.where, "damping", f"{belt.name} has no F_tspec(n) table and no damping value; give damping")

@@ -20,6 +20,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable, Iterator, Mapping, Sequence
 
+from beltcalc.checks import RULES
 from beltcalc.errors import BeltcalcError, FloatRangeError, InputError, float_range, require_positive
 from beltcalc.params import Param, Resolved, resolve
 from beltcalc.report import Column, Section
@@ -46,10 +47,8 @@ class Outcome:
         # failing check is a warning (stderr, the JSON's one `warnings` key)
         r = self.result
         if getattr(r, "error_estimate", None) is not None and r.extra.get("error_tol"):
-            from beltcalc.checks import Check
-
-            self.checks.append(Check("error_estimate", "error estimate", r.error_relative, r.extra["error_tol"], "1",
-                                     rule=f"relative to the scale of {r.error_signal}: the accepted tolerance"))
+            self.checks.append(RULES["error_estimate"].check(r.error_relative, r.extra["error_tol"],
+                                                             detail=f"relative to the scale of {r.error_signal}"))
         from beltcalc.checks import failures
 
         for c in failures(self.checks):
@@ -515,28 +514,78 @@ def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group:
     return out
 
 
-def strand_check(net, result, limits: Mapping[str, tuple[float, str]]) -> list:
-    """The strength check of the most loaded strand over the whole run: its peak force
-    against its limit (a chain's breaking load, a belt's F_Tadm), with how many strands
-    exceed theirs."""
-    from beltcalc.checks import Check
+#: The rule of a strand by the limit it is given (``limits[name] = (N, what)``): a chain's
+#: breaking load F_B with the safety F_B / F >= 6 that ``chain`` applies; a belt's F_Tadm.
+STRAND_RULES = {"breaking load": "chain_safety", "F_Tadm": "belt_tension_member"}
 
-    rated = [(result.summary(f"F_{s.name}", 0.0).max, *limits[s.name], s.name) for s in net.strands
-             if s.name in limits]
-    if not rated:
+
+def strand_check(net, result, limits: Mapping[str, tuple[float, str]], chain_param: str | None = "chain") -> list:
+    """The strength check of the most loaded strand over the whole run, with how many
+    strands fail theirs: a chain strand's breaking-load safety F_B / F against the same rule
+    (:data:`beltcalc.checks.RULES` ``chain_safety``) as ``chain`` (which takes F = K_s F_pull
+    + q v^2: its service factor stands for the shocks a run computes), a belt strand's peak
+    force against F_Tadm (``belt_tension_member``). ``limits[name] = (N, what)``, ``what``
+    a key of :data:`STRAND_RULES`; the most loaded is the one of largest utilisation. A chain
+    strand that fails it is told the breaking load it needs and the first one-strand chain of
+    ``catalogs/chains.toml`` (smallest pitch) that has it, set by ``chain_param`` (a scene's
+    parameter; None: none names it).
+
+    >>> from types import SimpleNamespace as NS
+    >>> net = NS(strands=[NS(name="a")])
+    >>> res = NS(summary=lambda name, start: NS(max=4196.0))
+    >>> c, = strand_check(net, res, {"a": (22.2e3, "breaking load")})
+    >>> round(c.value, 3), c.limit, c.verdict, c.level       # 22.2 kN / 4196 N; F_B / 6 on F_a
+    (5.291, 6.0, 'FAIL', 3700.0)
+    """
+    checks = []
+    for s in net.strands:
+        if s.name not in limits:
+            continue
+        f, (limit, what) = result.summary(f"F_{s.name}", 0.0).max, limits[s.name]
+        rule = RULES[STRAND_RULES[what]]
+        if rule.limit is None:             # a force limit (F_Tadm)
+            checks.append((rule.check(f, limit, key="strand_strength", name="strand force"), s.name, limit, what))
+        else:                              # a safety on the breaking load
+            safety = limit / f if f > 0 else math.inf
+            checks.append((rule.check(safety, key="strand_strength", name="strand breaking-load safety"),
+                           s.name, limit / rule.limit, what))
+    if not checks:
         return []
-    over = sum(1 for f, limit, _, _ in rated if f > limit)
-    f, limit, what, name = max(rated, key=lambda r: r[0] / r[1])
-    rule = f"the peak over the run of strand {name}, the most loaded against its {what}"
+    over = sum(1 for c, *_ in checks if c.verdict == "FAIL")
+    worst, name, level, what = max(checks, key=lambda c: c[0].utilisation)
+    detail = f"the peak force F over the run of strand {name}, the most loaded against its {what}"
     if over > 1:
-        rule += f"; {over} of {len(rated)} strands exceed theirs"
-    return [Check("strand_strength", "strand force", f, limit, "N", rule=rule,
-                  signals=tuple(f"F_{n}" for _, lim, _, n in rated if lim == limit))]
+        detail += f"; {over} of {len(checks)} strands fail it"
+    signals = tuple(f"F_{n}" for _, n, lev, w in checks if lev == level and w == what)
+    rule = RULES[STRAND_RULES[what]]
+    if rule.limit is None:
+        return [rule.check(worst.value, worst.limit, key="strand_strength", name=worst.name, detail=detail,
+                           signals=signals)]
+    if worst.verdict == "FAIL":
+        detail += "; " + _stronger_chain(rule.limit * limits[name][0] / worst.value, chain_param)
+    return [rule.check(worst.value, key="strand_strength", name=worst.name, detail=detail, signals=signals,
+                       level=level)]
 
 
-#: Least separation of an excitation frequency from a natural frequency, relative to the
-#: natural frequency (an assumed design margin: closer, the response is resonant).
-RESONANCE_MARGIN = 0.1
+def _stronger_chain(need: float, param: str | None) -> str:
+    """What to do where a chain strand needs the breaking load ``need`` [N]: the first
+    one-strand chain of the built-in catalog (smallest pitch, then breaking load) that has it.
+
+    >>> _stronger_chain(25.18e3, "chain")
+    'it needs a chain of F_B >= 25.18 kN at this peak force: `chain`=12B-1 (28.9 kN, the smallest one-strand chain of catalogs/chains.toml that has it), then run again (another pitch changes the sprockets and the force)'
+    """
+    from beltcalc.catalogs import load_catalog
+
+    text = f"it needs a chain of F_B >= {need / 1e3:.4g} kN at this peak force"
+    fits = sorted((c for c in load_catalog().chains.values() if c.strands == 1 and c.breaking_load >= need),
+                  key=lambda c: (round(c.pitch, 9), c.breaking_load))    # 60-1 and 12B-1: 19.05 mm
+    if not fits:
+        return text + ": stronger than every one-strand chain of catalogs/chains.toml; more strands or a lower load"
+    pick = f"`{param}`={fits[0].name}" if param else fits[0].name
+    return (text + f": {pick} ({fits[0].breaking_load / 1e3:.4g} kN, the smallest one-strand chain of "
+            "catalogs/chains.toml that has it), then run again (another pitch changes the sprockets and the force)")
+
+
 
 
 def resonance_check(net, result, window: float) -> list:
@@ -546,11 +595,10 @@ def resonance_check(net, result, window: float) -> list:
     its node's mean speed over the steady window over ``2 pi`` (locked to the shaft angle).
     The check is the least relative separation ``|f_e - f_n| / f_n`` over the undamped
     natural frequencies ``f_n`` of the oscillatory modes (strands taut,
-    :func:`beltcalc.sim.frequency.poles`) against :data:`RESONANCE_MARGIN`. No periodic
+    :func:`beltcalc.sim.frequency.poles`) against the rule ``resonance`` of
+    :data:`beltcalc.checks.RULES` (an assumed margin of 10 %). No periodic
     load, or no oscillatory mode: no check.
     """
-    from beltcalc.checks import Check
-
     excitations = []
     for ld in net.loads:
         if not ld.amplitude:
@@ -575,10 +623,8 @@ def resonance_check(net, result, window: float) -> list:
         return []
     sep, f_e, node, p = min(((abs(f - p.frequency) / p.frequency, f, node, p)
                              for f, node in excitations for p in modes), key=lambda x: x[0])
-    return [Check("resonance", "load vs resonance", sep, RESONANCE_MARGIN, "1", kind="min",
-                  rule=f"{node} excites {f_e:.4g} Hz, {sep:.1%} from a natural frequency of "
-                       f"{p.frequency:.4g} Hz (damping ratio {p.damping_ratio:.3g}); an assumed margin of "
-                       f"{RESONANCE_MARGIN:.0%}")]
+    return [RULES["resonance"].check(sep, detail=f"{node} excites {f_e:.4g} Hz, {sep:.1%} from a natural frequency "
+                                                 f"of {p.frequency:.4g} Hz (damping ratio {p.damping_ratio:.3g})")]
 
 
 def motor_checks(result, signal: str, breakdown: float, window: float, peak_from: float = 0.0,
@@ -588,8 +634,6 @@ def motor_checks(result, signal: str, breakdown: float, window: float, peak_from
     linearised characteristic of Mamatova et al. eq. 2 does not hold); with ``speed`` (the
     motor node's speed signal) whether the motor turns forwards over the window
     (:func:`stall_checks`)."""
-    from beltcalc.checks import Check
-
     mean, part = result.summary(signal, window).mean, result.summary(signal, peak_from)
     peak = max(abs(part.min), abs(part.max))
     span = "over the run" if peak_from <= 0 else f"t >= {peak_from:.4g} s"
@@ -601,9 +645,7 @@ def motor_checks(result, signal: str, breakdown: float, window: float, peak_from
         # torque goes into the train's acceleration (a short window early in the run)
         rising = bool(turning > 0 and w.size > 1 and w[-1] - w[0] > ACCELERATING * turning)
     return stall_checks(mean, turning, breakdown, f"t >= {window:.4g} s", (signal,), rising) + [
-        Check("motor_peak_torque", "motor peak torque", peak, breakdown, "N m",
-              rule=f"{span}, against the breakdown torque M_c: the linearised characteristic (eq. 2) holds "
-                   "below it", signals=(signal,))]
+        RULES["breakdown_peak"].check(peak, breakdown, key="motor_peak_torque", detail=span, signals=(signal,))]
 
 
 #: The checks whose failure means the drive stalls (:func:`stall_checks`): a run that fails
@@ -631,16 +673,13 @@ def stall_checks(torque: float, speed: float | None, breakdown: float, where: st
     >>> [c.verdict for c in stall_checks(36.4, -66.6, 3.0, "t >= 0.5 s")]
     ['FAIL', 'FAIL']
     """
-    from beltcalc.checks import Check
-
-    out = [Check("motor_mean_torque", "motor mean torque", None if rising else abs(torque), breakdown, "N m",
-                 rule=f"{where}, against the breakdown torque M_c: beyond it the motor stalls", signals=signals,
-                 reason="the motor still gains speed through the window (a start-up): its mean torque goes into "
-                        "accelerating the train, no verdict on a stall" if rising else "")]
+    out = [RULES["breakdown_mean"].check(
+        None if rising else abs(torque), breakdown, key="motor_mean_torque", detail=where, signals=signals,
+        reason="the motor still gains speed through the window (a start-up): its mean torque goes into "
+               "accelerating the train, no verdict on a stall" if rising else "")]
     if speed is not None:
-        out.append(Check("motor_direction", "motor speed, mean", speed, 0.0, "rad/s", kind="min",
-                         rule=f"{where}, in the direction of its synchronous speed: at or below 0 the loads turn the "
-                              "stalled train backwards against the motor"))
+        out.append(RULES["motor_direction"].check(speed, detail=f"{where}, in the direction of its synchronous "
+                                                                 "speed"))
     return out
 
 
@@ -663,15 +702,15 @@ def stall_line(checks) -> str:
             parts.append(f"{c.name} {c.value:.4g} {c.unit}: the loads turn it backwards")
         else:
             parts.append(f"{c.name} {c.value:.4g} {c.unit} beyond the breakdown torque {c.limit:.4g} {c.unit} "
-                         f"({c.rule.split(',')[0]})")
+                         f"({c.rule.split('; ')[-1]})")
     return "the drive stalls: " + "; ".join(parts)
 
 
 # --- the exact periodic steady state, and whether the window has settled ----------------------------
 #: What may be left of a start-up transient at the start of the steady window, relative to
 #: the transient at its start: the slowest pole has decayed to this ln(1 / SETTLED) time
-#: constants after the last input change (an assumed limit: 0.1 %).
-SETTLED = 1e-3
+#: constants after the last input change (the registry's rule ``window_settled``, 0.1 %).
+SETTLED = RULES["window_settled"].limit
 
 #: States above which the settling check is not made: the poles of so large a drive (a
 #: 100-roller table) cost seconds (a dense eigenvalue problem), more than some runs.
@@ -777,12 +816,9 @@ def settling_check(net, window: float, t_end: float, taut=None, poles: list | No
     >>> round(c.value, 6), c.verdict         # e^-4
     (0.018316, 'FAIL')
     """
-    from beltcalc.checks import Check
-
     if net.size > SETTLING_STATES:
-        return [Check("window_settled", "transient at the window start", None, SETTLED, "1",
-                      reason=f"not checked: the drive has {net.size} states (more than {SETTLING_STATES}); "
-                             "its poles would cost more than the run")]
+        why = f"not checked: the drive has {net.size} states (more than {SETTLING_STATES}); its poles would cost more"
+        return [RULES["window_settled"].check(None, reason=why + " than the run")]
     if poles is None:
         from beltcalc.sim.frequency import poles as every_pole
 
@@ -810,7 +846,7 @@ def settling_check(net, window: float, t_end: float, taut=None, poles: list | No
     if taut is not None and not all(taut):
         slack = [s.name for s, on in zip(net.strands, taut) if not on]
         rule += f"; strands slack as at the end of the run: {', '.join(slack)}"
-    return [Check("window_settled", "transient at the window start", residual, SETTLED, "1", rule=rule)]
+    return [RULES["window_settled"].check(residual, detail=rule)]
 
 
 def input_changes(net, t_end: float = math.inf) -> list[float]:

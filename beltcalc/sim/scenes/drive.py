@@ -103,7 +103,7 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
     reported.update({f"F_{s.name}": (0.0,) for s in net.strands})
     reported.update({s: (0.0, w0) for s, _ in drive.motors})
     result = simulate(net, drive.t_end, drive.samples, cfg, watch=(watched, (0.0, w0), reported))
-    checks = strand_check(net, result, drive.limits) + resonance_check(net, result, w0)
+    checks = strand_check(net, result, drive.limits, None) + damping_fit_check(drive) + resonance_check(net, result, w0)
     for m in net.motors:      # a start from rest without a ramp is outside eq. 2: its peak counts from the window
         checks += motor_checks(result, f"M_{m.name}", m.breakdown_torque, w0, 0.0 if m.sync_table else w0,
                                speed=_speed(net, m.node))
@@ -119,6 +119,30 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
     taut = None if steady is not None else strands_at_end(net, result)
     checks += settling_check(net, w0, drive.t_end, taut)
     return Outcome(net, result, sections, notes, checks)
+
+
+def damping_fit_check(drive) -> list:
+    """The damping fit of the belt spans whose b was fitted to the catalog's F_tspec(n) (no
+    ``damping`` given), by the rule ``tension`` applies (:data:`beltcalc.checks.RULES`
+    ``damping_fit``, R^2 >= 0.9): the worst span's R^2, with how many fall below it. No
+    fitted span: no check.
+
+    >>> from types import SimpleNamespace as NS
+    >>> c, = damping_fit_check(NS(fits={"upper": (0.659, "fitted on p1"), "lower": (0.95, "fitted on p2")}))
+    >>> c.value, c.verdict
+    (0.659, 'FAIL')
+    """
+    from beltcalc.checks import RULES
+
+    if not drive.fits:
+        return []
+    rule = RULES["damping_fit"]
+    name, (r2, how) = min(drive.fits.items(), key=lambda kv: kv[1][0])
+    below = sum(1 for value, _ in drive.fits.values() if rule.check(value).verdict == "FAIL")
+    detail = f"belt span {name}, b_TB {how}"
+    if below > 1:
+        detail += f"; {below} of {len(drive.fits)} fitted spans are below it"
+    return [rule.check(r2, detail=detail + f"; give `{name}.damping` from a measurement")]
 
 
 def steady_state(drive):

@@ -33,7 +33,7 @@ from beltcalc.dutycycle import CycleDuty
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
 from beltcalc.profiles import Phase, Trapezoid
-from beltcalc.checks import Check
+from beltcalc.checks import RULES
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import Outcome, Scene, scene_values
@@ -707,20 +707,19 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
         result.warnings.append("the carriage has not settled by the end of the run: raise `after_move`")
     m = sizing.shown.motor
     checks = [
-        Check("belt_slack", "belt force", worst, pretension, "N",
-              rule="the largest |belt force| against the pretension F_t,peak: above it the slack span goes slack "
-                   "(the paper's eq. 10-11 criterion)", signals=("F_belt",)),
-        Check("motor_peak_torque", "motor peak torque", torque.peak, m.T_max, "N m",
-              rule=f"dynamic, against {m.name}'s T_max", signals=("T_drive_motor",)),
-        Check("motor_rms_torque", "motor RMS torque", rms, m.T_n, "N m",
-              rule=f"dynamic, over the cycle, against {m.name}'s T_n",
-              reason="" if rms is not None else "the run ends before the cycle", signals=("T_drive_motor",)),
-        Check("motor_speed", "motor speed", float(np.abs(result["omega_motor"]).max()), m.n_max, "rad/s",
-              rule=f"against {m.name}'s n_max"),
-        Check("belt_mass", "belt mass", model.belt_mass, model.axis.mass, "kg",
-              rule="plausibility: the belt on the span against the carriage mass it moves; a belt heavier than "
-                   "its carriage is outside the substitute model's premise (m_TB small beside m_WDU): check "
-                   "the centre distance, width and mass"),
+        RULES["belt_slack"].check(worst, pretension, detail="the largest |belt force| over the run",
+                                  signals=("F_belt",)),
+        RULES["motor_peak_torque"].check(torque.peak, m.T_max, detail=f"dynamic, against {m.name}'s T_max",
+                                         signals=("T_drive_motor",)),
+        RULES["motor_rms_torque"].check(rms, m.T_n, detail=f"dynamic, over the cycle, against {m.name}'s T_n",
+                                        reason="" if rms is not None else "the run ends before the cycle",
+                                        signals=("T_drive_motor",)),
+        RULES["motor_speed"].check(float(np.abs(result["omega_motor"]).max()), m.n_max,
+                                   detail=f"against {m.name}'s n_max"),
+        RULES["belt_mass"].check(model.belt_mass, model.axis.mass,
+                                 detail="the belt on the span against the carriage mass it moves; a belt heavier "
+                                        "than its carriage is outside the substitute model's premise (m_TB small "
+                                        "beside m_WDU): check the centre distance, width and mass"),
     ]
     return Outcome(net, result, sections, notes, checks)
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
-from beltcalc.checks import Check
+from beltcalc.checks import RULES, Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, SteadyRow, check_timing, exact_steady_state, motor_checks,
@@ -259,8 +259,7 @@ def run(values: dict, cfg, angle_loads: bool = False, steady_state_only: bool = 
     checks += span_checks
     checks += settling_check(net, start, values["t_end"])
     if omega:
-        checks.append(Check("window_periods", "steady window", float(periods), 1.0, "1", kind="min",
-                            rule="whole load periods in the window: its means and amplitudes are of whole cycles"))
+        checks.append(RULES["window_periods"].check(float(periods)))
     return Outcome(net, result, sections, notes, checks, window=start)
 
 
@@ -338,9 +337,10 @@ def _span_forces(net, values: dict, result, start: float) -> tuple[list[Row], li
             "is > 0 (the start from rest is left out, as for the motor's peak)")
     if f0 is None:
         rule = "no pretension given: the spans are two-way; " + rule + "; their force change stands for it"
+    spans = {"key": "belt_spans_taut", "name": f"belt {name} span force, min", "detail": rule,
+             "signals": (f"{prefix}_{name}_tight", f"{prefix}_{name}_slack")}
     if least[side] > 0:
-        return rows, [Check("belt_spans_taut", f"belt {name} span force, min", least[side], 0.0, "N", kind="min",
-                            rule=rule, signals=(f"{prefix}_{name}_tight", f"{prefix}_{name}_slack"))]
+        return rows, [RULES["span_taut"].check(least[side], **spans)]
     window = f"the window t >= {start:.4g} s"
     if f0 is None:
         line = (f"belt {name}: no pretension given (`belt_pretension`): its spans are two-way springs, and the {side} "
@@ -360,8 +360,7 @@ def _span_forces(net, values: dict, result, start: float) -> tuple[list[Row], li
                 f"{least[side]:.4g} N ({share[side]:.0%} of {window} slack{also}), modelled tension-only; at this "
                 f"pretension it slackens {from_}, here {values['roller_eccentricity'] * 1e3:g} mm; raise "
                 "`belt_pretension` or lower `roller_eccentricity`")
-    return rows, [_SpanCheck("belt_spans_taut", f"belt {name} span force, min", least[side], 0.0, "N", kind="min",
-                             rule=rule, signals=(f"{prefix}_{name}_tight", f"{prefix}_{name}_slack"), line=line)]
+    return rows, [RULES["span_taut"].check(least[side], **spans, cls=_SpanCheck, line=line)]
 
 
 STEADY_SIGNALS = ["omega_3", "accel_3", "T_23", "omega_5", "accel_5", "T_45", "omega_1", "M_motor"]

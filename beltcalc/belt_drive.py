@@ -27,11 +27,14 @@ from dataclasses import dataclass, field, replace
 from beltcalc import belt as bm
 from beltcalc import geometry as geo
 from beltcalc.catalogs import BeltProfile, ServiceFactors
-from beltcalc.checks import Check
+from beltcalc.checks import Check, failures
 from beltcalc.errors import InputError, require_positive, require_range
 
 LAYOUTS = ("linear", "endless")
 MIN_TEETH_IN_MESH = 6      # Tsubaki Table 6 [3]: meshing factor 1.0 from 6 teeth in mesh
+# Fewer than 3 teeth make no pitch polygon: bad input, not a design to check (the makers'
+# z_min, 10 and more where the catalogs give one, is the check: ``pulley_teeth``).
+MIN_PULLEY_TEETH = 3
 
 
 def peripheral_force(torque: float, pitch_diameter: float) -> float:
@@ -133,21 +136,25 @@ def shaft_load(tight: float, slack: float, wrap: float) -> float:
     return math.sqrt(max(tight * tight + slack * slack - 2.0 * tight * slack * math.cos(wrap), 0.0))
 
 
-def installation_tension_rule(force: float, layout: str) -> float:
-    r"""The manufacturers' minimum installation tension (pretension) [N].
+def installation_tension_rule(force: float, layout: str, service: float = 1.0) -> float:
+    r"""The minimum installation tension (pretension) [N].
 
-    .. math:: F_v \ge F_U \ \text{(linear)}, \qquad F_v \ge F_U / 2 \ \text{(endless)}
+    .. math:: F_v \ge F_U \ \text{(linear)}, \qquad F_v \ge c_2 F_U / 2 \ \text{(endless)}
 
     Linear drives: Elatech catalogue p. 55 [1] (the idle side must not go slack whatever
-    the carriage position). Endless two-pulley drives with equal spans: the slack side
-    T_2 = F_v - F_U / 2 >= 0 with T_1 - T_2 = F_U, T_1 + T_2 = 2 F_v (Shigley [4]).
+    the carriage position). Endless two-pulley drives with equal spans: T_1 - T_2 = F,
+    T_1 + T_2 = 2 F_v (Shigley [4]) give the slack side T_2 = F_v - F / 2; at the design
+    load F = c_2 F_U (the peak the tooth-shear check is made for, service factor c_2 of
+    Tsubaki [3]) it stays >= 0 when F_v >= c_2 F_U / 2. At the nominal F_U it is then
+    (c_2 - 1) F_U / 2 > 0. (F_v = F_U / 2 would leave it at 0 N under the nominal load and
+    negative, i.e. slack and jumping teeth, under c_2 F_U: issue 28.)
 
-    >>> installation_tension_rule(500.0, "linear"), installation_tension_rule(500.0, "endless")
-    (500.0, 250.0)
+    >>> installation_tension_rule(500.0, "linear"), installation_tension_rule(500.0, "endless", 1.4)
+    (500.0, 350.0)
     """
     if layout not in LAYOUTS:
         raise InputError(f"{layout!r} is not a layout; use one of {', '.join(LAYOUTS)}", param="layout")
-    return force if layout == "linear" else force / 2.0
+    return force if layout == "linear" else service * force / 2.0
 
 
 def _class(value: float, bounds: tuple[float, ...], closed_low: bool) -> int:
@@ -409,6 +416,8 @@ class BeltDriveReport:
     checks: tuple[Check, ...]
     selection: WidthSelection | None = None
     warnings: tuple[str, ...] = field(default=())
+    notes: tuple[str, ...] = field(default=())      # what the run decided for the user (a stock length skipped)
+    slack_design: float | None = None                # N, endless: slack side at the design load c2 F_U (< 0: slack)
 
 
 def _force(inp: BeltDriveInputs, d1: float) -> tuple[float, str, list[str]]:
@@ -474,8 +483,9 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
     z1 = inp.teeth
     z2 = inp.teeth_large if inp.teeth_large is not None else z1
     for name, z in (("teeth", z1), ("teeth_large", z2)):
-        if z != int(z) or z < 1:
-            raise InputError(f"{z:g} is not allowed; a pulley needs a whole number of teeth >= 1", param=name)
+        if z != int(z) or z < MIN_PULLEY_TEETH:
+            raise InputError(f"{z:g} is not allowed; a pulley needs a whole number of teeth >= {MIN_PULLEY_TEETH}",
+                             param=name)
     if z2 < z1:
         raise InputError(f"{z2} teeth: the large pulley must have at least the {z1} teeth of `teeth`",
                          param="teeth_large")
@@ -492,12 +502,11 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
         linear = geo.linear_axis_geometry(a, d1, inp.carriage_length, stroke, inp.clamp_allowance)
         length, span = linear.belt_length, linear.return_span
         z_belt = geo.belt_teeth(linear.pitch_length, belt.pitch)
-        stock, stock_a = (None, None), (None, None)
+        stock, stock_a, notes = (None, None), (None, None), []
     else:
         length, span = geo.belt_pitch_length(d1, d2, a), geo.span_length(d1, d2, a)
         z_belt = geo.belt_teeth(length, belt.pitch)
-        stock = geo.nearest_stock_teeth(z_belt, belt.stock_teeth)
-        stock_a = tuple(geo.center_distance_for_length(d1, d2, t * belt.pitch) if t else None for t in stock)
+        stock, stock_a, notes = _stock_lengths(geo.nearest_stock_teeth(z_belt, belt.stock_teeth), d1, d2, belt.pitch)
 
     z_e_raw = z1 * wrap[0] / (2.0 * math.pi)
     z_e = float(min(z_e_raw, belt.z_e_max)) if belt.z_e_max else z_e_raw   # the maker's z_e max [2]
@@ -518,18 +527,21 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
         belt_speed = require_range("speed", inp.belt_speed, "m/s", 0.0)
         speed = 2.0 * belt_speed / d1
 
-    rule = installation_tension_rule(force, inp.layout)
+    rule = installation_tension_rule(force, inp.layout, service.value)
     if inp.pretension is not None:
         f_v = require_range("pretension", inp.pretension, "N", 0.0)
         pre_src = "given (pretension)"
     else:
         f_v = rule
         pre_src = ("manufacturers' rule F_v = F_U (linear drive, Elatech p. 55)" if inp.layout == "linear"
-                   else "manufacturers' rule F_v = F_U / 2 (endless: slack side stays taut)")
+                   else f"F_v = c2 F_U / 2 with c2 = {service.value:g} (endless: the slack side stays taut, "
+                        "T_2 >= 0, up to the design load c2 F_U; Shigley eq. 17-1)")
+    slack_design = None
     if inp.layout == "linear":
         tight, slack = f_v + force, f_v          # worst carriage position: the tight side takes all of F_U
     else:
         tight, slack = f_v + force / 2.0, max(f_v - force / 2.0, 0.0)
+        slack_design = f_v - service.value * force / 2.0
     loads = (shaft_load(tight, slack, wrap[0]), shaft_load(tight, slack, wrap[1]))
     paper = _paper_tension(inp, belt, d1)
 
@@ -539,13 +551,17 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
 
     # --- checks ----------------------------------------------------------------------
     specific = capacity = None
-    reason = ""
+    reason = beyond = ""
     if inp.f_tspec is not None:
         specific = require_positive("f_tspec", inp.f_tspec, "N/m")
     elif not belt.F_tspec:
         reason = f"{belt.name} has no F_tspec(n) table in its catalog; give `f_tspec`"
     elif speed is None:
         reason = "no running speed; give `speed`"
+    elif speed > belt.F_tspec[-1][0] * (1.0 + 1e-12):
+        beyond = (f"{speed * 30 / math.pi:.6g} rpm is beyond the maker's F_tspec table of {belt.name} (up to "
+                  f"{belt.F_tspec[-1][0] * 30 / math.pi:.6g} rpm): the tooth capacity there is not known and the "
+                  "table is not extrapolated; give `f_tspec` from the maker for this speed")
     else:
         try:
             specific = specific_tooth_load(belt.F_tspec, speed)
@@ -555,20 +571,22 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
         capacity = tooth_shear_capacity(specific, inp.width, z_e)
     checks = [
         Check("tooth_shear", "tooth shear", force * service.value, capacity, "N",
-              rule="F_U c2 <= F_tspec(n) b z_e (BRECO; service factor c2: Tsubaki)", reason=reason),
+              rule="F_U c2 <= F_tspec(n) b z_e (BRECO; service factor c2: Tsubaki)", reason=reason,
+              unverified=beyond),
         Check("tension_member", "tension member", force + f_v, row.F_Tadm, "N",
               rule="F_U + F_v <= F_Tadm (Elatech p. 55)",
               reason="" if row.F_Tadm else f"{belt.name} {inp.width * 1e3:g} mm has no published F_Tadm"),
         Check("pretension", "installation tension", f_v, rule, "N", kind="min",
               rule=("F_v >= F_U (linear drive, Elatech p. 55)" if inp.layout == "linear"
-                    else "F_v >= F_U / 2 (endless drive: slack side T_2 = F_v - F_U / 2 >= 0)")),
+                    else "F_v >= c2 F_U / 2 (endless drive: slack side T_2 = F_v - c2 F_U / 2 >= 0 at the design "
+                         "load c2 F_U; Shigley eq. 17-1, c2 Tsubaki)")),
         Check("pulley_teeth", "pulley teeth", float(z1), float(belt.z_min) if belt.z_min else None, "1",
               kind="min", rule=f"z_1 >= z_min ({minimum_pulley_teeth_source(belt)})",
               reason="" if belt.z_min else f"the catalog gives no z_min for {belt.name}"),
         Check("teeth_in_mesh", "teeth in mesh", z_e, float(MIN_TEETH_IN_MESH), "1", kind="min",
               rule="z_e >= 6 (Tsubaki Table 6: full capacity from 6 teeth in mesh)"),
     ]
-    warnings = force_warnings + [c.warning() for c in checks if c.verdict == "FAIL"]
+    warnings = force_warnings + [c.warning() for c in failures(checks)]
     return BeltDriveReport(
         belt=belt.name, layout=inp.layout, width=inp.width, teeth=(z1, z2), diameters=(d1, d2), wrap=wrap,
         span=span, belt_length=length, belt_teeth=z_belt, stock=stock, stock_center_distance=stock_a,
@@ -577,13 +595,36 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
         speed=speed, belt_speed=belt_speed, specific_load=specific, tooth_capacity=capacity,
         pretension=f_v, pretension_rule=rule, pretension_source=pre_src, paper_tension=paper, tight=tight,
         slack=slack, shaft_loads=loads, f_tadm=row.F_Tadm, span_frequency_rule=freq_rule,
-        span_frequency_paper=freq_paper, checks=tuple(checks), warnings=tuple(warnings),
+        span_frequency_paper=freq_paper, checks=tuple(checks), warnings=tuple(warnings), notes=tuple(notes),
+        slack_design=slack_design,
     )
+
+
+def _stock_lengths(stock: tuple[int | None, int | None], d1: float, d2: float,
+                   pitch: float) -> tuple[tuple[int | None, int | None], tuple[float | None, float | None], list[str]]:
+    """The stock belts either side of the drive's length that fit its pulleys, each with its
+    back-solved centre distance; one that cannot fit (shorter than the belt round the two
+    pulleys touching) is left out, with a note: it is no error of the drive (issue 28)."""
+    teeth, centres, notes = [], [], []
+    touching = (d1 + d2) / 2.0
+    shortest = geo.belt_pitch_length(d1, d2, touching * (1.0 + 1e-12))
+    for side, t in zip(("shorter", "longer"), stock):
+        a = None
+        if t and t * pitch <= shortest:
+            notes.append(f"the {side} stock belt ({t} teeth, {t * pitch * 1e3:.6g} mm) cannot fit these pulleys: "
+                         f"the belt round them touching (a = {touching * 1e3:.6g} mm) is {shortest * 1e3:.6g} mm; "
+                         "left out")
+            t = None
+        elif t:
+            a = geo.center_distance_for_length(d1, d2, t * pitch)
+        teeth.append(t)
+        centres.append(a)
+    return (teeth[0], teeth[1]), (centres[0], centres[1]), notes
 
 
 SELECTION_RULE = ("narrowest catalog width whose checks all pass (tooth shear with the service factor, "
                   "tension member F_U + F_v <= F_Tadm, installation tension, pulley and mesh teeth); "
-                  "a check that is n/a does not block a width")
+                  "a check that is n/a or unverified does not block a width (an unverified one is reported)")
 
 
 def select_belt_width(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFactors) -> BeltDriveReport:

@@ -5,6 +5,11 @@ Its utilisation is value/limit (max) or limit/value (min): 1 is exactly at the l
 above 1 fails. A check that cannot be made (a table the catalog lacks, an input not
 given) has verdict ``"n/a"`` and says why in ``reason``; it never fails silently.
 
+A check whose figures the sources do not vouch for (a running speed beyond the maker's
+table or rating chart, a chain with no lubrication data) has verdict ``"unverified"`` and
+says why in ``unverified``. It is not a pass: like a FAIL it is a warning (stderr and the
+JSON's ``warnings``) and it fails ``--strict`` (:func:`failures` returns both).
+
 Every check is made from a :class:`Rule` of :data:`RULES` (``RULES["chain_safety"].check(...)``):
 one definition of each limit, its kind, unit and source, whichever command meets the
 quantity (``chain`` and a simulated chain strand, ``tension`` and a drive file's fitted
@@ -33,6 +38,7 @@ class Check:
     signals: tuple[str, ...] = ()   # time signals whose magnitude the limit bounds (a plot draws it there)
     level: float | None = None      # where it differs from ``limit``: the bound on ``signals``, in their unit
                                     # (a safety factor's allowable force)
+    unverified: str = ""            # why the sources do not vouch for the figures: the verdict is "unverified"
 
     @property
     def utilisation(self) -> float | None:
@@ -58,22 +64,33 @@ class Check:
 
     @property
     def verdict(self) -> str:
-        """``"pass"``, ``"FAIL"`` or ``"n/a"``.
+        """``"pass"``, ``"FAIL"``, ``"n/a"``, or ``"unverified"`` where ``unverified`` says why
+        the figures are not vouched for (whatever they are: the caller decides when).
 
         >>> Check("t", "tooth shear", 150.0, 100.0, "N").verdict
         'FAIL'
+        >>> Check("t", "tooth shear", 50.0, None, "N", unverified="beyond the table").verdict
+        'unverified'
         """
+        if self.unverified:
+            return "unverified"
         u = self.utilisation
         if u is None:
             return "n/a"
         return "pass" if u <= 1.0 + 1e-12 else "FAIL"
 
     def warning(self) -> str:
-        """The one-line warning of a failed check (no figure beyond a float printed as ``inf``).
+        """The one-line warning of a failed or unverified check (no figure beyond a float
+        printed as ``inf``).
 
         >>> Check("m", "belt mass", 0.14, 1e-320, "kg").warning()
         'belt mass FAILS: 0.14 kg must be <= 1e-320 kg (utilisation beyond any finite figure; )'
+        >>> Check("t", "tooth shear", 264.0, None, "N", rule="F_U c2 <= F_tspec b z_e",
+        ...       unverified="12000 rpm is beyond the table").warning()
+        'tooth shear UNVERIFIED: 12000 rpm is beyond the table; not a pass (F_U c2 <= F_tspec b z_e)'
         """
+        if self.unverified:
+            return f"{self.name} UNVERIFIED: {self.unverified}; not a pass ({self.rule})"
         op = "<=" if self.kind == "max" else ">="
         unit = "" if self.unit in ("", "1") else f" {self.unit}"
         u = self.utilisation
@@ -83,12 +100,12 @@ class Check:
 
     def to_dict(self) -> dict:
         """JSON-ready: values ``{"value", "unit"}``, utilisation and margin, verdict, rule
-        (never NaN: None with the reason)."""
+        (never NaN: None with the reason); ``reason``: why it is n/a or unverified."""
         return {"key": self.key, "name": self.name,
                 "value": {"value": self.value, "unit": self.unit}, "limit": {"value": self.limit, "unit": self.unit},
                 "kind": self.kind, "margin": {"value": self.margin, "unit": self.unit},
                 "utilisation": {"value": self.utilisation, "unit": "1"}, "verdict": self.verdict,
-                "rule": self.rule, **({"reason": self.reason} if self.reason else {})}
+                "rule": self.rule, **({"reason": self.unverified or self.reason} if self.unverified or self.reason else {})}
 
 
 def figure(value: float | None, spec: str = ".4g") -> str:
@@ -105,8 +122,9 @@ def figure(value: float | None, spec: str = ".4g") -> str:
 
 
 def failures(checks) -> list[Check]:
-    """The checks that fail."""
-    return [c for c in checks if c.verdict == "FAIL"]
+    """The checks that do not pass: those that FAIL and those that are unverified (each a
+    warning, each failing ``--strict``). An n/a check is neither."""
+    return [c for c in checks if c.verdict in ("FAIL", "unverified")]
 
 
 # --- the registry of rules ---------------------------------------------------------------------
@@ -191,8 +209,9 @@ RULES: Mapping[str, Rule] = {r.key: r for r in (
          "the belt maker's allowable tension F_Tadm per width (Elatech catalogue p. 55; catalogs/belts)",
          limit_name="F_Tadm", met_by=("belt-drive", "tension", "simulate drive")),
     Rule("belt_pretension", "installation tension", None, "N", "min", "F_v",
-         "Elatech catalogue p. 55 (linear); endless: slack side T_2 = F_v - F_U / 2 >= 0, Shigley eq. 17-1",
-         limit_name="F_U (linear drive) or F_U / 2 (endless drive)", met_by=("belt-drive",)),
+         "Elatech catalogue p. 55 (linear); endless: slack side T_2 = F_v - c2 F_U / 2 >= 0 at the design load "
+         "c2 F_U, Shigley eq. 17-1 with the Tsubaki service factor c2",
+         limit_name="F_U (linear drive) or c2 F_U / 2 (endless drive)", met_by=("belt-drive",)),
     Rule("pulley_teeth", "pulley teeth", None, "1", "min", "z_1", "the belt maker's z_min (catalogs/belts)",
          limit_name="z_min", met_by=("belt-drive",)),
     Rule("teeth_in_mesh", "teeth in mesh", 6.0, "1", "min", "z_e",

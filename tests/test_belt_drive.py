@@ -62,8 +62,11 @@ def test_endless_drive_by_hand():
     assert checks["tooth_shear"].value == pytest.approx(1.4 * r.force, rel=1e-14)
     assert checks["tooth_shear"].verdict == "FAIL"
     assert any("tooth shear FAILS" in w for w in r.warnings)
-    # endless: F_v = F_U / 2, strands F_v +- F_U / 2
-    assert (r.tight, r.slack) == pytest.approx((r.force, 0.0), abs=1e-9)
+    # endless: F_v = c2 F_U / 2 (slack side >= 0 up to the design load c2 F_U), strands F_v +- F_U / 2:
+    # by hand 1.2 F_U and 0.2 F_U with c2 = 1.4; at c2 F_U the slack side is exactly 0
+    assert r.pretension == pytest.approx(1.4 * r.force / 2, rel=1e-14)
+    assert (r.tight, r.slack) == pytest.approx((1.2 * r.force, 0.2 * r.force), rel=1e-14)
+    assert r.slack_design == pytest.approx(0.0, abs=1e-9)
     # stock: whole teeth either side of L / P and their back-solved centre distances
     low, high = r.stock
     assert low == math.floor(r.belt_teeth) and high == math.ceil(r.belt_teeth)
@@ -129,7 +132,9 @@ def test_select_width_names_rule_tried_and_chosen():
 def test_speed_beyond_the_table_is_not_extrapolated():
     r = bd.check_belt_drive(replace(ENDLESS, pulley_speed=20000 * RPM), CAT.belt("Elatech-AT5"), SF)
     shear = next(c for c in r.checks if c.key == "tooth_shear")
-    assert shear.verdict == "n/a" and "not extrapolated" in shear.reason
+    # beyond the maker's table the check is not a pass: unverified, a warning (issue 28)
+    assert shear.verdict == "unverified" and "not extrapolated" in shear.unverified
+    assert shear.limit is None and any(w.startswith("tooth shear UNVERIFIED") for w in r.warnings)
 
 
 # --- CLI -----------------------------------------------------------------------------------

@@ -15,9 +15,9 @@ from beltcalc.cli.output import Row, dumps, emit_warnings, print_table, strict_o
 @click.option("--select-width", is_flag=True, help="Check every catalog width, narrowest first; keep the first that passes.")
 @click.option("--layout", type=click.Choice(["linear", "endless"]), default="linear", show_default=True,
               help="linear: belt clamped to a carriage, equal pulleys; endless: two-pulley drive.")
-@click.option("--teeth", type=click.IntRange(min=1), default=40, show_default=True,
+@click.option("--teeth", type=click.IntRange(min=3), default=40, show_default=True,
               help="Teeth of the (small, driving) pulley.")
-@click.option("--teeth-large", type=click.IntRange(min=1), default=None,
+@click.option("--teeth-large", type=click.IntRange(min=3), default=None,
               help="Teeth of the large pulley (endless drives) [default: = --teeth].")
 @quantity_option("--center-distance", si_unit="m", display="mm", default="1245 mm", help="Pulley centre distance a.")
 @quantity_option("--force", si_unit="N", help="Peripheral force F_U (instead of --torque or --mass x --accel).")
@@ -66,7 +66,7 @@ def belt_drive(ctx, belt, width, select_width, layout, teeth, teeth_large, cente
     from beltcalc.catalogs import load_catalog
     from beltcalc.cli.main import OPTION_NAMES
 
-    ctx.meta.setdefault(OPTION_NAMES, {}).update(motor_size="--from-motor-size")
+    ctx.meta.setdefault(OPTION_NAMES, {}).update(RENAMED)
     if motor_size is not None:
         for name, value in (("--force", force), ("--torque", torque)):
             if value is not None:
@@ -113,12 +113,17 @@ def belt_drive(ctx, belt, width, select_width, layout, teeth, teeth_large, cente
         if report.f_tadm is not None:
             inputs["f_tadm"] = entry(f"{report.f_tadm:g} N", report.f_tadm, "N",
                                      f"catalog: {belt_entry.name} ({belt_entry.source.document})")
-        obj.update(inputs=inputs, checks=checks_json(report.checks), warnings=warnings)
+        obj.update(inputs=inputs, checks=checks_json(report.checks), notes=options_text(report.notes),
+                   warnings=warnings)
         click.echo(dumps(obj))
         return
     title = (f"Belt drive ({report.layout}): {report.belt} {report.width * 1e3:g} mm, "
              f"z = {report.teeth[0]}/{report.teeth[1]}, a = {center_distance * 1e3:g} mm")
     print_table(title, [(name, shown(rows)) for name, rows in sections], notes=options_text(notes(report)))
+
+
+#: Library parameters whose option has another name (errors and warnings name the option).
+RENAMED = {"motor_size": "--from-motor-size", "speed_up_ratio": "--speed-up"}
 
 
 def csv_text(rows) -> str:
@@ -138,6 +143,7 @@ def notes(r) -> list[str]:
     for c in r.checks:
         if c.verdict == "n/a":
             out.append(f"{c.key}: not checked - {c.reason}")
+    out += r.notes
     if r.selection is not None:
         tried = ", ".join(f"{t.width * 1e3:g} mm ({'pass' if t.passed else 'FAIL'}: {t.worst} {t.utilisation:.0%})"
                           for t in r.selection.tried)
@@ -197,6 +203,9 @@ def report_rows(r) -> list[tuple[str, list[Row]]]:
     forces += [
         Row("tight_side", "tight side (worst case)", r.tight, "N"),
         Row("slack_side", "slack side", r.slack, "N"),
+        *([] if r.slack_design is None else
+          [Row("slack_side_design", "slack side at c2 F_U", r.slack_design, "N",
+               note="F_v - c2 F_U / 2; below 0 the span goes slack")]),
         Row("shaft_load_small", "shaft load F_W, small pulley", r.shaft_loads[0], "N"),
         Row("shaft_load_large", "shaft load F_W, large pulley", r.shaft_loads[1], "N"),
     ]
@@ -205,7 +214,7 @@ def report_rows(r) -> list[tuple[str, list[Row]]]:
     install = [
         Row("pretension", "installation tension F_v", r.pretension, "N"),
         Row("pretension_rule", "manufacturers' rule", r.pretension_rule, "N",
-            note="F_v >= F_U" if r.layout == "linear" else "F_v >= F_U / 2"),
+            note="F_v >= F_U" if r.layout == "linear" else "F_v >= c2 F_U / 2"),
     ]
     if r.paper_tension is not None:
         install.append(Row("paper_tension", "paper's F_t,peak (eq. 10-12)", r.paper_tension, "N"))
@@ -217,7 +226,9 @@ def report_rows(r) -> list[tuple[str, list[Row]]]:
     checks = []
     for c in r.checks:
         util = c.utilisation
+        note = (options_text([f"n/a ({c.reason})"])[0] if c.verdict == "n/a" else
+                options_text([f"UNVERIFIED ({c.unverified})"])[0] if c.verdict == "unverified" else c.verdict)
         checks.append(Row(f"check_{c.key}", f"{c.name}: {c.rule.split(' (')[0]}", util, "1", "percent", digits=3,
-                          note=c.verdict if c.verdict != "n/a" else options_text([f"n/a ({c.reason})"])[0]))
+                          note=note))
     return [("geometry", geo), ("forces", forces), ("installation tension", install),
             ("checks (utilisation)", checks)]

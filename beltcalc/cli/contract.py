@@ -87,10 +87,12 @@ def checks_json(checks) -> list[dict]:
 
 def check_rows(checks) -> list[Row]:
     """The checks as table rows: utilisation in %, the verdict and the rule in the note
-    (a failing row says FAIL first, an n/a row why)."""
+    (a failing row says FAIL first, an n/a or unverified row why)."""
     rows = []
     for c in checks:
-        if c.verdict == "n/a":
+        if c.verdict == "unverified":
+            note = f"UNVERIFIED: {render(c.unverified, option_name)}"
+        elif c.verdict == "n/a":
             note = f"n/a: {render(c.reason, option_name)}"
         else:
             op = "<=" if c.kind == "max" else ">="

@@ -179,25 +179,32 @@ def inputs_json(params, resolved) -> dict:
 
 strict_option = click.option(
     "--strict", is_flag=True,
-    help="Exit 1 (and write no file) when a design check fails; without it a failing check is a warning.")
+    help="Exit 1 (and write no file) when a design check fails or cannot be verified (beyond a table or chart, "
+         "no data); without it each is a warning.")
 
 
 def emit_warnings(warnings: Iterable[str], checks=(), strict: bool = False) -> None:
     """The one way a command reports warnings and failed checks.
 
     Each warning is one ``warning: ...`` line on stderr (the same text goes into the
-    JSON's ``warnings`` key, which the caller builds). With ``strict`` a failing check
-    ends the command with exit 1 before any file is written.
+    JSON's ``warnings`` key, which the caller builds). With ``strict`` a failing check, or
+    one that could not be verified (:class:`~beltcalc.checks.Check` ``unverified``), ends
+    the command with exit 1 before any file is written.
     """
     from beltcalc.checks import failures
     from beltcalc.errors import InputError
 
     for w in warnings:
         click.echo(f"warning: {no_inf(w)}", err=True)
-    failed = failures(checks)
-    if strict and failed:
-        names = list(dict.fromkeys(c.name for c in failed))
-        raise InputError(f"{len(failed)} checks fail ({', '.join(names)}); see the warnings", param="strict")
+    bad = failures(checks)
+    if strict and bad:
+        parts = []
+        for verdict, what in (("FAIL", "fail"), ("unverified", "cannot be verified")):
+            these = [c for c in bad if c.verdict == verdict]
+            if these:
+                names = ", ".join(dict.fromkeys(c.name for c in these))
+                parts.append(f"{len(these)} checks {what} ({names})")
+        raise InputError(f"{' and '.join(parts)}; see the warnings", param="strict")
 
 
 def wrote(path) -> None:

@@ -126,7 +126,7 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
 
 
 def _print_checks(checks) -> None:
-    """The checks as one table, failing rows marked."""
+    """The checks as one table, failing and unverified rows marked."""
     from rich.table import Table
 
     if not checks:
@@ -136,7 +136,7 @@ def _print_checks(checks) -> None:
         t.add_column(col, justify="left" if col in ("check", "unit", "verdict") else "right")
     for c in checks:
         u = c.utilisation
-        style = "bold red" if c.verdict == "FAIL" else None
+        style = "bold red" if c.verdict == "FAIL" else "bold yellow" if c.verdict == "unverified" else None
         t.add_row(c.name, "-" if c.value is None else format_number(c.value, 4),
                   "-" if c.limit is None else format_number(c.limit, 4), c.unit,
                   "-" if u is None else f"{u:.0%}" if u < 1e300 else "unbounded", c.verdict, style=style)

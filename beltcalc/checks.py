@@ -189,7 +189,8 @@ class Rule:
 
 
 _SHEET = "the motor's data sheet (catalogs/motors)"
-_BREAKDOWN = "Mamatova et al. 2016 eq. 2: an induction motor's linearised characteristic, up to its breakdown torque M_c"
+_BREAKDOWN = ("Mamatova et al. 2016 eq. 2: an induction motor's linearised characteristic, up to its breakdown "
+              "torque M_c")
 
 #: Every design rule a command checks, by key (:class:`Rule`); docs/design_checks.md's table.
 RULES: Mapping[str, Rule] = {r.key: r for r in (

@@ -303,7 +303,8 @@ def _plot(spec: Scene, out, window: float | None, path) -> None:
             hit = [s for s in c.signals if s in shown]
             if c.limit is None or not hit:
                 continue
-            level = float(to_panel(c.limit, c.unit))
+            # a safety factor's check bounds its signals at ``level`` (in their unit), not at its limit
+            level = float(to_panel(c.limit, c.unit) if c.level is None else to_panel(c.level, result.units[hit[0]]))
             both = any(float(to_panel(result[s], result.units[s]).min()) < -0.1 * level for s in hit)
             names, was = here.get(level, ([], False))
             here[level] = (names + [c.name], was or both)

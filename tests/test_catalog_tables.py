@@ -380,8 +380,8 @@ def leave_one_out(rows: list[tuple[float, float]]) -> tuple[float, float]:
     return worst
 
 
-# docs/catalogs.md, "How F_tspec(n) is interpolated": per table, the bound [%] and where, and
-# the leave-one-out figure [%] and its row
+# docs/catalogs.md, "Catalogs: how F_tspec(n) is interpolated" (held here, not by test_readme_figures):
+# per table, the bound [%] and where, and the leave-one-out figure [%] and its row
 STATED = {
     "BRECO-T20": (1.39, 147, 1.35, 200),
     "BRECO-T2.5": (1.22, 149, 1.22, 200),
@@ -403,6 +403,20 @@ def test_stated_overshoot_bounds(name):
     assert bound * 100 == pytest.approx(stated[0], abs=0.005) and at == pytest.approx(stated[1], abs=0.5)
     assert loo * 100 == pytest.approx(stated[2], abs=0.005) and row == stated[3]
     assert bound < 0.015      # the worst of all tables: 1.39 % (T20, 100-200 rpm)
+
+
+def test_docs_state_these_bounds():
+    # each row of the docs' table quotes the figures of STATED (an edit of either fails here)
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "catalogs.md").read_text(encoding="utf-8")
+    rows = {line.split("|")[1].strip(): line for line in text.splitlines() if "% |" in line}
+    labels = {"BRECO T20": "BRECO-T20", "BRECO T2.5": "BRECO-T2.5", "BRECO AT5 GEN III": "BRECO-AT5 GEN III",
+              "Elatech T2.5": "Elatech-T2.5", "Elatech T5": "Elatech-T5", "Elatech AT5, ATL5": "Elatech-AT5",
+              "Elatech AT20": "Elatech-AT20"}
+    for label, name in labels.items():
+        bound, _, loo, row = STATED[name]
+        assert f"| {bound:.2f} %" in rows[label] and f"| +{loo:.2f} % | {row} rpm |" in rows[label], label
 
 
 def test_the_old_three_row_t20_chord_overshot_by_19_percent():

@@ -24,10 +24,13 @@ References
     eta passes T_out = eta i T_in when driving; a back-driven gearbox passes
     T_in = eta_b T_out / i (power flows from the load to the motor).
 [3] Yaskawa Sigma-7 AC servo drive product manual (SIEP S800001 28), "Calculating the
-    Required Capacity of Regenerative Resistors": the energy a braking event returns is
-    first stored in the SERVOPACK's DC-bus capacitors, E_C = C (U_max^2 - U_dc^2) / 2;
-    the rest goes to the regenerative resistor; its continuous power is that energy per
-    cycle over the cycle time, its peak power the largest braking power.
+    Required Capacity of Regenerative Resistors" (section 12.8.6, "Selecting External
+    Regenerative Resistor: Calculating the Regenerative Energy"): the energy a braking event
+    returns is first stored in the SERVOPACK's DC-bus capacitors, E_C = C (U_max^2 - U_dc^2)
+    / 2; the rest, E_K, goes to the regenerative resistor, whose required capacity is
+    W_K = E_K / (0.2 T) (step 6; T the repeat cycle; note 1: 0.2 is the resistor's utilized
+    load ratio of 20 %). Its average power E_K / T is the heat it sheds; its peak power the
+    largest braking power.
 [4] Biagiotti & Melchiorri, Trajectory Planning for Automatic Machines and Robots (2008),
     section 3.4 (the S-curve, see :mod:`beltcalc.profiles`).
 """
@@ -558,14 +561,20 @@ def _vertices(p: tuple[float, ...], duration: float) -> list[float]:
 
 # --- regeneration -------------------------------------------------------------------------------
 
+# [3] step 6, note 1: a regenerative resistor is rated for a utilized load ratio of 20 %, so its
+# required capacity is W_K = E_K / (0.2 T), five times the cycle's average braking power.
+RESISTOR_LOAD_RATIO = 0.2
+
 @dataclass(frozen=True)
 class Regeneration:
     """Braking energy of a cycle against the drive's storage, and the braking resistor.
 
     ``stored`` [J] the DC-bus capacitors take per braking event (None: not given, all of
-    it goes to the resistor); ``resistor_energy`` [J] per cycle; ``resistor_power``
-    continuous [W]; ``resistor_peak_power`` [W]; ``resistance_max`` [ohm] the largest
-    resistance that still takes the peak power at the chopper voltage (None without it).
+    it goes to the resistor); ``resistor_energy`` E_K [J] per cycle; ``resistor_rating`` the
+    resistor's required capacity W_K = E_K / (0.2 T) [W] ([3], the rating to buy);
+    ``resistor_power`` its average power E_K / T over the cycle [W] (not a rating);
+    ``resistor_peak_power`` [W]; ``resistance_max`` [ohm] the largest resistance that still
+    takes the peak power at the chopper voltage (None without it).
     """
 
     braking_energy: float
@@ -576,6 +585,7 @@ class Regeneration:
     resistor_peak_power: float
     resistance_max: float | None
     events: tuple[tuple[float, float, float], ...] = field(default=())  # (start, energy, to resistor)
+    resistor_rating: float = 0.0
 
 
 def capacitor_energy(capacitance: float, bus_voltage: float, chopper_voltage: float) -> float:
@@ -608,13 +618,15 @@ def regeneration(duty: CycleDuty, stored: float | None = None, efficiency: float
 
     .. math::
         E_i = \eta \int_{event\,i} \max(-T\omega, 0)\,dt, \quad
-        E_R = \sum_i \max(E_i - E_C, 0), \quad
-        P_{R,cont} = E_R / t_{cyc}, \quad P_{R,peak} = \eta \max(-T\omega), \quad
-        R_{max} = U_{max}^2 / P_{R,peak}
+        E_K = \sum_i \max(E_i - E_C, 0), \quad
+        W_K = E_K / (0.2\, t_{cyc}), \quad P_{R,avg} = E_K / t_{cyc}, \quad
+        P_{R,peak} = \eta \max(-T\omega), \quad R_{max} = U_{max}^2 / P_{R,peak}
 
     Notes
     -----
-    [3]. T is the motor's electromagnetic torque, so T omega already has the motor's
+    [3]; W_K (step 6) is the capacity to buy: a resistor is rated for a 20 % utilized load
+    ratio (:data:`RESISTOR_LOAD_RATIO`), so W_K is five times the average power. T is the
+    motor's electromagnetic torque, so T omega already has the motor's
     modelled losses (b_M omega^2), the gearbox's back-driven efficiency and the friction
     taken off; ``efficiency`` is what is lost further on the way to the DC bus (winding
     and inverter; 1: the resistor must take all of it, the safe side). The capacitors
@@ -638,7 +650,8 @@ def regeneration(duty: CycleDuty, stored: float | None = None, efficiency: float
     return Regeneration(
         braking_energy=duty.braking_energy, efficiency=efficiency, stored=stored, resistor_energy=total,
         resistor_power=total / duty.cycle_time, resistor_peak_power=peak if total > 0 or stored is None else 0.0,
-        resistance_max=r_max if total > 0 else None, events=tuple(rows))
+        resistance_max=r_max if total > 0 else None, events=tuple(rows),
+        resistor_rating=total / (RESISTOR_LOAD_RATIO * duty.cycle_time))
 
 
 # --- torque-speed zones ------------------------------------------------------------------------

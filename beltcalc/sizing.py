@@ -57,6 +57,54 @@ PARAMS = [
 ]
 
 
+# Where each value of PARAMS is measured: the motor's side of the gearbox or the carriage's
+# (the belt, pulleys and guides turn or move with the carriage, after the gearbox).
+WHERE = {
+    "belt": "carriage side: the belt between the pulleys",
+    "width": "carriage side: belt width",
+    "center_distance": "carriage side: drive to idler pulley",
+    "mass": "carriage side: the carriage",
+    "pulley_teeth": "carriage side: drive and idler pulleys, after the gearbox",
+    "pulley_diameter": "carriage side: drive pulley, after the gearbox",
+    "pulley_width": "carriage side: pulley bodies",
+    "pulley_bore": "carriage side: pulley bodies",
+    "pulley_density": "carriage side: pulley bodies",
+    "pulley_inertia": "carriage side: drive-pulley shaft (gearbox output)",
+    "idler_inertia": "carriage side: idler shaft",
+    "coupling_inertia": "carriage side: drive-pulley shaft (gearbox output)",
+    "gearbox_inertia": "motor side: at the gearbox input",
+    "load_inertia": "carriage side: idler shaft",
+    "gear_ratio": "motor speed / drive-pulley speed",
+    "belt_ratio": "carriage side: idler / drive pulley diameter",
+    "resistance": "carriage side: force on the carriage",
+    "guide_friction": "carriage side: carriage guide",
+    "guide_damping": "carriage side: carriage guide",
+    "bearing_damping": "carriage side: each pulley shaft",
+    "motor_efficiency": "motor side: the motor",
+    "speed": ("motor side: motor shaft", "carriage side: carriage"),
+    "accel": ("motor side: motor shaft", "carriage side: carriage"),
+    "stroke": "carriage side: carriage travel per move",
+    "dwell": "the cycle: standstill after each move",
+    "inertia_ratio_limit": "motor side: load / rotor inertia at the motor shaft",
+    "peak_margin": "motor side: on the motor's peak torque",
+}
+
+
+def where(name: str, value: object = None) -> str:
+    """Where the value ``name`` of :data:`PARAMS` is measured (:data:`WHERE`); a speed or
+    an acceleration by its unit (``value`` is ``(float, unit)``: rad/s at the motor, m/s at
+    the carriage).
+
+    >>> where("gearbox_inertia"), where("speed", (2.0, "m/s"))
+    ('motor side: at the gearbox input', 'carriage side: carriage')
+    """
+    w = WHERE[name]
+    if isinstance(w, tuple):
+        unit = value[1] if isinstance(value, tuple) else ""
+        return w[0] if unit.startswith("rad") else w[1]
+    return w
+
+
 @dataclass(frozen=True)
 class SizingInputs:
     """Everything ``beltcalc motor-size`` needs, SI. ``speed``/``accel`` carry their kind:
@@ -338,6 +386,7 @@ class CycleSizing:
     warnings: tuple[str, ...]
     assumptions: tuple[str, ...]
     checks: tuple[Check, ...] = ()      # the reported motor's and the gearbox's
+    notes: tuple[str, ...] = ()         # what the cycle does that was not asked (jerk-limited moves, the way back)
 
     @property
     def first_move(self) -> Segment:
@@ -372,7 +421,12 @@ def move_profile(spec: MoveSpec, axis: BeltAxis, defaults: SizingInputs, default
 
 def cycle_segments(inp: SizingInputs, axis: BeltAxis, opts: DutyOptions) -> tuple[Segment, ...]:
     """The cycle at the motor shaft: the segments of ``opts.cycle``, or the single move of
-    the inputs (stroke, speed/accel/jerk or move time) and its dwell."""
+    the inputs (stroke, speed/accel/jerk or move time) and its dwell; on an inclined axis
+    (``opts.incline`` != 0) the move out and back (:func:`out_and_back`), since what goes up
+    comes down and the way down is where the drive brakes.
+
+    One rule for a dwell of 0 s, however it is given: no dwell (the move runs straight into
+    the next); a negative one is refused."""
     if opts.cycle is None:
         spec = MoveSpec("move", "move", distance=inp.stroke, time=opts.move_time,
                         accel_fraction=opts.accel_fraction, jerk_fraction=opts.jerk_fraction)
@@ -381,6 +435,8 @@ def cycle_segments(inp: SizingInputs, axis: BeltAxis, opts: DutyOptions) -> tupl
         else:
             prof = move_profile(spec, axis, inp, opts.jerk)
         require_range("dwell", inp.dwell, "s", low=0.0)
+        if opts.incline != 0:
+            return out_and_back(prof, inp.dwell, opts.incline)
         segs = [Segment("move", "move", profile=prof)]
         if inp.dwell > 0:
             segs.append(Segment("dwell", "dwell", duration=inp.dwell))
@@ -396,6 +452,8 @@ def cycle_segments(inp: SizingInputs, axis: BeltAxis, opts: DutyOptions) -> tupl
             if spec.kind == "dwell":
                 if spec.time is None:
                     raise InputError("a dwell needs a time", param="cycle")
+                if require_range("dwell", spec.time, "s", low=0.0) == 0.0:
+                    continue                  # 0 s: the move runs straight into the next, as --dwell 0s
                 out.append(Segment(name, "dwell", duration=spec.time, payload=spec.payload, force=spec.force))
             else:
                 prof = move_profile(spec, axis, inp, opts.jerk)
@@ -406,6 +464,53 @@ def cycle_segments(inp: SizingInputs, axis: BeltAxis, opts: DutyOptions) -> tupl
     if not any(seg.kind == "move" for seg in out):
         raise InputError("the cycle has no move (only dwells): nothing to size a motor for", param="cycle")
     return tuple(out)
+
+
+def out_and_back(profile: Trapezoid, dwell: float, incline: float) -> tuple[Segment, ...]:
+    """The default cycle of an inclined axis: the move along +x (up the incline when
+    ``incline`` > 0), the dwell, the same move back along -x, the dwell (a dwell of 0 s is
+    left out). The way down returns the potential energy: without it the braking energy
+    and the resistor would be those of half a cycle that never closes.
+
+    >>> from beltcalc.profiles import trapezoid
+    >>> [(g.name, g.direction) for g in out_and_back(trapezoid(100.0, 1000.0, 50.0), 0.5, 1.5708)]
+    [('up', 1), ('dwell at the top', 1), ('down', -1), ('dwell at the bottom', 1)]
+    """
+    first, second = ("up", "down") if incline > 0 else ("down", "up")
+    where = {"up": "at the top", "down": "at the bottom"}
+    segs = []
+    for name, direction in ((first, 1), (second, -1)):
+        segs.append(Segment(name, "move", profile=profile, direction=direction))
+        if dwell > 0:
+            segs.append(Segment(f"dwell {where[name]}", "dwell", duration=dwell))
+    return tuple(segs)
+
+
+def jerk_limited(segments, k: float) -> list[str]:
+    """Notes on the moves whose jerk limit keeps them below the acceleration asked (an
+    S-curve whose acceleration phase never reaches ``accel``, Biagiotti & Melchiorri 2008,
+    section 3.4: when v j < a^2 the speed is reached first, a_lim = sqrt(v j); when the
+    stroke is too short, theta < 2 a^3 / j^2, neither is reached). ``k`` [m/rad] converts the
+    motor's acceleration to the carriage's.
+
+    >>> from beltcalc.profiles import scurve
+    >>> jerk_limited([Segment("move", "move", profile=scurve(100.0, 1000.0, 2000.0, 500.0))], 0.01)[0][:57]
+    'move: the jerk limit (20 m/s^3 at the carriage, 2000 rad/'
+    """
+    notes = []
+    for g in segments:
+        p = g.profile
+        if g.kind != "move" or not math.isfinite(getattr(p, "jerk", math.inf)):
+            continue
+        if p.peak_accel >= p.accel * (1 - 1e-12):
+            continue
+        why = ("the stroke is too short to reach either (theta < 2 a^3 / j^2)" if p.triangular
+               else "the speed is reached first (v j < a^2: a = sqrt(v j))")
+        notes.append(f"{g.name}: the jerk limit ({p.jerk * k:.4g} m/s^3 at the carriage, {p.jerk:.4g} rad/s^3 "
+                     f"at the motor) keeps the acceleration at {p.peak_accel * k:.4g} m/s^2 ({p.peak_accel:.4g} "
+                     f"rad/s^2 at the motor), below the {p.accel * k:.4g} m/s^2 ({p.accel:.4g} rad/s^2) asked: "
+                     f"{why}")
+    return notes
 
 
 def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor: Motor | None = None,
@@ -463,8 +568,10 @@ def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor:
                             "T_n is not safe there")
         if stored is not None and regen.resistor_energy > 0:
             warnings.append(f"braking returns up to {max(e for _, e, _ in regen.events):.3g} J per event, more than the "
-                            f"DC-bus capacitors store ({stored:.3g} J): a braking resistor of at least "
-                            f"{regen.resistor_power:.3g} W continuous, {regen.resistor_peak_power:.3g} W peak is needed")
+                            f"DC-bus capacitors store ({stored:.3g} J): a braking resistor rated at least "
+                            f"{regen.resistor_rating:.3g} W (W_K = E_K / (0.2 T), Yaskawa's 20 % load ratio; "
+                            f"{regen.resistor_power:.3g} W on average) and {regen.resistor_peak_power:.3g} W peak "
+                            "is needed")
         if shown.duty.holding_torque > 0 and opts.incline != 0 and not opts.brake:
             assumptions.append("at rest the motor holds the axis against gravity (no brake): the holding torque "
                                "counts in the RMS")
@@ -486,9 +593,14 @@ def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor:
         checks += [Check(c.name.replace(" ", "_"), c.name, c.value, c.limit, c.unit.replace(" ", "*"),
                          rule=f"{c.name} <= the gearbox's rating ({src})") for c in gb_checks]
     warnings[:0] = [c.warning() for c in failures(checks)]
+    notes = jerk_limited(segments, axis.carriage_per_motor())
+    if opts.cycle is None and opts.incline != 0:
+        notes.append("the cycle is " + ", ".join(g.name for g in segments) + ": an inclined axis comes back, "
+                     "and the braking on the way down counts in the braking energy and the resistor")
     return CycleSizing(axis=axis, drive=drive, segments=segments, choice=choice, shown=shown,
                        substitute_mass=m_tb, regen=regen, gearbox_checks=tuple(gb_checks),
-                       warnings=tuple(warnings), assumptions=tuple(assumptions), checks=tuple(checks))
+                       warnings=tuple(warnings), assumptions=tuple(assumptions), checks=tuple(checks),
+                       notes=tuple(notes))
 
 
 def move_energy(segments, duty) -> tuple[float, float, float]:

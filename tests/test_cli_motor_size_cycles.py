@@ -106,10 +106,12 @@ BUS = ("--dc-bus-capacitance", "1000uF", "--dc-bus-voltage", "325V", "--chopper-
 
 def test_segment_options_equal_the_cycle_file():
     # the same cycle given as options and as the file: one computation, so every output is the
-    # same (bit for bit); only the inputs' echo and the cycle's title differ
+    # same (bit for bit); only the inputs' echo, the cycle's title and what the scene gives differ
+    # (the options give the speed and acceleration the file's [cycle] gives)
     base = js("--incline", "90deg", "--cycle", str(CYCLE), *BUS)
     mine = js("--incline", "90deg", *SEGMENTS, *BUS)
-    assert {k for k in base if base[k] != mine.get(k)} == {"inputs"}
+    assert {k for k in base if base[k] != mine.get(k)} == {"inputs", "scene"}
+    assert set(base["scene"]["inherited"]) - set(mine["scene"]["inherited"]) == {"speed", "accel"}
     assert mine["peak_torque"]["value"] == pytest.approx(3.1528502, rel=1e-7)     # README's 3.153 N m
     assert mine["inputs"]["segment_texts"]["origin"] == "option"
 

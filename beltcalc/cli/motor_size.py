@@ -44,7 +44,8 @@ def _sweep_spec(text: str | None):
 
 @click.command("motor-size", context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--scene", default="wdu", show_default=True,
-              help="Built-in scene (wdu, pdd) or a scene .toml file; every option below overrides it.")
+              help="Built-in scene (wdu, pdd) or a scene .toml file; every option below overrides it, and "
+                   "the table lists what the axis takes from it. 'none': no scene, every value an option.")
 @scene_options(PARAMS)
 @click.option("--substitute-mass-model", type=click.Choice(["eq7", "rayleigh"]), default="eq7", show_default=True,
               help="m_TB by the paper's eq. 7, or the Rayleigh m_belt/3.")
@@ -125,7 +126,8 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
         require_matplotlib()
     DutyOptions(accel_fraction=accel_fraction, jerk_fraction=jerk_fraction)   # their ranges, also in a sweep
     cat = load_catalog(catalog_paths)
-    scene_def = load_scene(scene, command="motor-size")
+    replaced = _replaced(cycle_option is not None, move_time is not None, gearbox_name is not None)
+    scene_def = _no_scene(given, replaced) if scene == "none" else load_scene(scene, command="motor-size")
     values = resolve(scene_def, PARAMS, given)
     belt = cat.belt(values["belt"].value)
     motors = _motor_list(cat, motor_files)
@@ -185,10 +187,18 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
         if plot_path is not None:
             _plot_profile(sizing, plot_path)
             wrote(plot_path)
+    inherited = {k: v for k, v in values.items() if not v.given and k not in replaced}
+    new_axis = any(v.given for v in values.values()) or incline != 0 or counterweight != 0
     if as_json:
-        click.echo(_json(sizing, rows, values, _inputs(ctx, values), warnings))
+        click.echo(_json(sizing, rows, values, _inputs(ctx, values), warnings,
+                         _scene_json(scene_def, inherited, new_axis)))
     else:
-        _print(sizing, sections, values, scene_def.title + (f"; cycle: {cycle.title}" if cycle else ""))
+        title = scene_def.title
+        if new_axis and scene_def.name != "none":
+            title = f"your axis on the scene {scene_def.name}"
+        sections += [(f"from the scene {scene_def.name} (not given; override with the option)",
+                      _inherited_rows(inherited))] if new_axis and inherited else []
+        _print(sizing, sections, values, title + (f"; cycle: {cycle.title}" if cycle else ""))
     if not fits:
         raise InputError(f"no motor fits: {sizing.choice.reason} (see the table); lower --accel or --speed, "
                          "change --gear-ratio, or add motors with --catalog", param=None)
@@ -207,6 +217,63 @@ def _inputs(ctx, values) -> dict:
         out[k] = entry(v.text, value, unit, "option" if v.given else v.origin)
     out.update(echo_inputs(ctx, skip=set(by_name)))
     return out
+
+
+def _no_scene(given, replaced):
+    """``--scene none``: a scene without values; every value the run uses must be an option,
+    all the missing ones named in one message (those a cycle, a move time or a catalog
+    gearbox replaces stand in as unused)."""
+    from beltcalc.catalogs import Scene, Source
+    from beltcalc.cli.main import option_name
+
+    missing = [option_name(p.name) for p in PARAMS
+               if p.required and given.get(p.name) is None and p.name not in replaced]
+    if missing:
+        raise click.BadParameter(f"'none' takes every value from the options; give also {', '.join(missing)} "
+                                 f"({len(missing)} missing), or start from a scene file of your own "
+                                 "(catalogs/scenes/wdu.toml is one)", param_hint="--scene")
+    unused = {k: (_UNUSED[k], "not used: replaced by the cycle, the move time or the gearbox") for k in replaced}
+    return Scene(name="none", title="your axis (no scene)", command="motor-size",
+                 source=Source("the command line"), values=unused)
+
+
+# values a cycle, a move time or a catalog gearbox replaces (not taken from a scene then), and
+# what stands in for them without a scene
+_REPLACED = {"cycle": ("stroke", "dwell"), "move_time": ("speed", "accel"),
+             "gearbox": ("gear_ratio", "gearbox_inertia")}
+_UNUSED = {"stroke": "1 m", "dwell": "0 s", "speed": "1 m/s", "accel": "1 m/s^2", "gear_ratio": "1",
+           "gearbox_inertia": "0 kg*m^2"}
+
+
+def _replaced(cycle: bool, move_time: bool, gearbox: bool) -> set[str]:
+    """The names of :data:`PARAMS` the run does not use."""
+    out = set()
+    for flag, on in (("cycle", cycle), ("move_time", move_time), ("gearbox", gearbox)):
+        if on:
+            out.update(_REPLACED[flag])
+    return out
+
+
+def _inherited_rows(inherited) -> list[Row]:
+    """One row per inherited value: its text as the scene gives it, where it is measured
+    (motor or carriage side) and the scene's reason, shortened to its source."""
+    from beltcalc.cli.main import option_name
+    from beltcalc.sizing import where
+
+    rows = []
+    for name, v in inherited.items():
+        why = v.origin.removeprefix("scene: ")
+        source = why.split(":")[0].split(",")[0].strip() if ":" in why else ""
+        rows.append(Row(f"scene_{name}", option_name(name), v.text, "", note=f"{where(name, v.value)}"
+                        + (f"; {source}" if source else "")))
+    return rows
+
+
+def _scene_json(scene_def, inherited, new_axis: bool) -> dict:
+    from beltcalc.sizing import where
+
+    return {"name": scene_def.name, "title": scene_def.title, "new_axis": new_axis,
+            "inherited": {k: {"text": v.text, "where": where(k, v.value)} for k, v in inherited.items()}}
 
 
 def _check_combinations(given, jerk, move_time, cycle_option, sweep, incline, counterweight, brake, eff, eff_back,
@@ -257,6 +324,14 @@ def _motor_list(cat, files: str | None):
     return picked
 
 
+def _jerk_limited(g) -> bool:
+    """Whether the jerk keeps move ``g`` below its acceleration limit (see
+    :func:`beltcalc.sizing.jerk_limited`)."""
+    p = g.profile
+    return (g.kind == "move" and math.isfinite(getattr(p, "jerk", math.inf))
+            and p.peak_accel < p.accel * (1 - 1e-12))
+
+
 def _rpm(w: float) -> str:
     return f"{w * 30 / math.pi:.0f} rpm"
 
@@ -275,15 +350,19 @@ def _sections(s) -> tuple[list, list[Row]]:
     cycle_time = sum(g.time for g in s.segments)
     peak_speed = max(p.peak_speed for p in (g.profile for g in s.segments if g.kind == "move"))
     accel = getattr(prof, "peak_accel", 0.0) or prof.accel
+    limited = _jerk_limited(move)
     motion = [
-        Row("pulley_diameter", "pulley pitch diameter D", ax.pulley_diameter, "m", "mm"),
+        Row("pulley_diameter", "pulley pitch diameter D", ax.pulley_diameter, "m", "mm",
+            note="drive pulley, carriage side"),
         Row("gear_ratio", "gear ratio i", ax.gear_ratio, "1",
-            note=s.drive.gearbox.name if s.drive.gearbox.name else ""),
+            note="motor speed / drive-pulley speed" + (f"; {s.drive.gearbox.name}" if s.drive.gearbox.name else "")),
         Row("motor_speed", "peak motor speed", peak_speed, "rad/s", "rpm",
             note="triangular: speed not reached" if single and prof.triangular else ""),
         Row("carriage_speed", "peak carriage speed", peak_speed * k, "m/s"),
-        Row("motor_accel", "motor acceleration" + ("" if single else " (first move)"), accel, "rad/s^2"),
-        Row("carriage_accel", "carriage acceleration" + ("" if single else " (first move)"), accel * k, "m/s^2"),
+        Row("motor_accel", "motor acceleration" + ("" if single else " (first move)"), accel, "rad/s^2",
+            note=f"the jerk limits it: {fmt(prof.accel, 4)} rad/s^2 asked" if limited else ""),
+        Row("carriage_accel", "carriage acceleration" + ("" if single else " (first move)"), accel * k, "m/s^2",
+            note=f"the jerk limits it: {fmt(prof.accel * k, 4)} m/s^2 asked" if limited else ""),
     ]
     if math.isfinite(getattr(prof, "jerk", math.inf)):
         motion.append(Row("motor_jerk", "motor jerk limit" + ("" if single else " (first move)"), prof.jerk,
@@ -291,20 +370,23 @@ def _sections(s) -> tuple[list, list[Row]]:
     motion.append(Row("cycle_time", "cycle time", cycle_time, "s"))
     mt = s.drive.mounting
     if mt.incline != 0:
-        motion.append(Row("incline", "incline", mt.incline, "rad", "deg", note="brake holds in dwells" if mt.brake else ""))
+        motion.append(Row("incline", "incline", mt.incline, "rad", "deg",
+                          note="of the carriage's travel (+x) above horizontal"
+                               + ("; brake holds in dwells" if mt.brake else "")))
     if mt.counterweight:
-        motion.append(Row("counterweight", "counterweight", mt.counterweight, "kg"))
+        motion.append(Row("counterweight", "counterweight", mt.counterweight, "kg", note="carriage side"))
     inertia = [Row("inertia_motor", f"motor rotor ({shown.motor.name if shown else 'none'})", motor_j,
                    "kg m^2", "kg*cm^2")]
     inertia += [Row("inertia_" + n.replace(" ", "_"), n, v, "kg m^2", "kg*cm^2") for n, v in parts.items()]
     inertia += [
         Row("reflected_inertia", "reflected inertia J_red", load_j + motor_j, "kg m^2", "kg*cm^2",
-            note="at the motor shaft" + ("" if single and not mt.counterweight else "; largest payload, counterweight")),
+            note="at the motor shaft" + ("; largest payload" if not single else "")
+                 + ("; counterweight" if mt.counterweight else "")),
         Row("inertia_ratio", "load / motor inertia", shown.inertia_ratio if shown else math.nan, "1", digits=3),
     ]
     rows = motion + inertia
     if shown is None:
-        return [("motion", motion), ("reflected inertia", inertia)], rows
+        return [("motion", motion), ("reflected inertia, at the motor shaft", inertia)], rows
     d = shown.duty
     torque = []
     if single:
@@ -341,8 +423,11 @@ def _sections(s) -> tuple[list, list[Row]]:
         if r.stored is not None:
             regen.append(Row("dc_bus_energy", "DC-bus capacitors store", r.stored, "J", digits=3, note="per event"))
         regen += [
-            Row("resistor_energy", "braking resistor energy per cycle", r.resistor_energy, "J", digits=3),
-            Row("resistor_power", "braking resistor, continuous", r.resistor_power, "W", digits=3),
+            Row("resistor_energy", "braking resistor energy per cycle E_K", r.resistor_energy, "J", digits=3),
+            Row("resistor_rating", "braking resistor, rated capacity W_K", r.resistor_rating, "W", digits=3,
+                note="E_K / (0.2 T): Yaskawa's 20 % load ratio; the rating to buy"),
+            Row("resistor_power", "braking resistor, average power", r.resistor_power, "W", digits=3,
+                note="E_K / T over the cycle; not a rating"),
             Row("resistor_peak_power", "braking resistor, peak", r.resistor_peak_power, "W", digits=3),
         ]
         if r.resistance_max is not None:
@@ -353,7 +438,8 @@ def _sections(s) -> tuple[list, list[Row]]:
                 note=f"limit {fmt(c.limit * (30 / math.pi if c.unit == 'rad/s' else 1), 4)}"
                      f"{' rpm' if c.unit == 'rad/s' else ' ' + c.unit}: {'ok' if c.ok else 'FAIL'}")
             for c in s.gearbox_checks]
-    sections = [("motion", motion), ("reflected inertia", inertia), (f"torque ({m.name})", torque)]
+    sections = [("motion", motion), ("reflected inertia, at the motor shaft", inertia),
+                (f"torque at the motor shaft ({m.name})", torque)]
     if zone:
         sections.append(("torque-speed zone", zone))
     if regen:
@@ -404,6 +490,8 @@ def _print(s, sections, values, title) -> None:
         out.print("the stroke is too short to reach the speed: triangular profile", markup=False)
     for a in s.assumptions:
         out.print(f"assumed: {a}", markup=False, highlight=False)
+    for n in options_text(s.notes):
+        out.print(f"note: {n}", markup=False, highlight=False)
     given = [f"{k}={v.text}" for k, v in values.items() if v.given]
     out.print("inputs: scene values (--json lists each with its reason)"
               + (f"; given: {', '.join(given)}" if given else ""), markup=False, highlight=False)
@@ -413,7 +501,7 @@ def _q(value, unit):
     return quantity(None if value is None else value, unit)
 
 
-def _json(s, rows, values, inputs, warnings) -> str:
+def _json(s, rows, values, inputs, warnings, scene=None) -> str:
     obj = {r.key: _q(r.value, r.unit) for r in rows}
     for key, unit in (("peak_torque", "N*m"), ("rms_torque", "N*m"), ("accel_time", "s"), ("accel_energy", "J"),
                       ("accel_energy_exact", "J"), ("peak_power", "W")):
@@ -459,6 +547,15 @@ def _json(s, rows, values, inputs, warnings) -> str:
                       "checks": [{"name": c.name, "value": _q(c.value, c.unit.replace(" ", " ")),
                                   "limit": _q(c.limit, c.unit), "ok": c.ok} for c in s.gearbox_checks]}
     obj["assumptions"] = options_text(s.assumptions)
+    obj["notes"] = options_text(s.notes)
+    obj["jerk_limited_moves"] = [{
+        "segment": g.name, "accel_asked": _q(g.profile.accel, "rad/s^2"),
+        "accel_reached": _q(g.profile.peak_accel, "rad/s^2"),
+        "carriage_accel_asked": _q(g.profile.accel * s.axis.carriage_per_motor(), "m/s^2"),
+        "carriage_accel_reached": _q(g.profile.peak_accel * s.axis.carriage_per_motor(), "m/s^2"),
+    } for g in s.segments if _jerk_limited(g)]
+    if scene is not None:
+        obj["scene"] = scene
     obj["inputs"] = inputs
     obj["checks"] = checks_json(s.checks)
     obj["warnings"] = warnings

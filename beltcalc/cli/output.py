@@ -34,9 +34,12 @@ def require_matplotlib() -> None:
 
 
 def display_value(row: Row) -> str:
-    """The row's value in its display unit, ``digits`` significant digits."""
+    """The row's value in its display unit, ``digits`` significant digits; a text (an input
+    as it was written, with its unit) as it is."""
     from beltcalc.units import convert
 
+    if isinstance(row.value, str):
+        return row.value
     if row.value is None or (isinstance(row.value, float) and math.isnan(row.value)):
         return "-"
     si = "" if row.unit == "1" else row.unit

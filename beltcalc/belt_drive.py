@@ -27,11 +27,10 @@ from dataclasses import dataclass, field, replace
 from beltcalc import belt as bm
 from beltcalc import geometry as geo
 from beltcalc.catalogs import BeltProfile, ServiceFactors
-from beltcalc.checks import Check, failures
+from beltcalc.checks import RULES, Check, failures
 from beltcalc.errors import InputError, require_positive, require_range
 
 LAYOUTS = ("linear", "endless")
-MIN_TEETH_IN_MESH = 6      # Tsubaki Table 6 [3]: meshing factor 1.0 from 6 teeth in mesh
 # Fewer than 3 teeth make no pitch polygon: bad input, not a design to check (the makers'
 # z_min, 10 and more where the catalogs give one, is the check: ``pulley_teeth``).
 MIN_PULLEY_TEETH = 3
@@ -570,21 +569,17 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
     if specific is not None:
         capacity = tooth_shear_capacity(specific, inp.width, z_e)
     checks = [
-        Check("tooth_shear", "tooth shear", force * service.value, capacity, "N",
-              rule="F_U c2 <= F_tspec(n) b z_e (BRECO; service factor c2: Tsubaki)", reason=reason,
-              unverified=beyond),
-        Check("tension_member", "tension member", force + f_v, row.F_Tadm, "N",
-              rule="F_U + F_v <= F_Tadm (Elatech p. 55)",
-              reason="" if row.F_Tadm else f"{belt.name} {inp.width * 1e3:g} mm has no published F_Tadm"),
-        Check("pretension", "installation tension", f_v, rule, "N", kind="min",
-              rule=("F_v >= F_U (linear drive, Elatech p. 55)" if inp.layout == "linear"
-                    else "F_v >= c2 F_U / 2 (endless drive: slack side T_2 = F_v - c2 F_U / 2 >= 0 at the design "
-                         "load c2 F_U; Shigley eq. 17-1, c2 Tsubaki)")),
-        Check("pulley_teeth", "pulley teeth", float(z1), float(belt.z_min) if belt.z_min else None, "1",
-              kind="min", rule=f"z_1 >= z_min ({minimum_pulley_teeth_source(belt)})",
-              reason="" if belt.z_min else f"the catalog gives no z_min for {belt.name}"),
-        Check("teeth_in_mesh", "teeth in mesh", z_e, float(MIN_TEETH_IN_MESH), "1", kind="min",
-              rule="z_e >= 6 (Tsubaki Table 6: full capacity from 6 teeth in mesh)"),
+        RULES["belt_tooth_shear"].check(force * service.value, capacity, key="tooth_shear", reason=reason,
+                                        unverified=beyond),
+        RULES["belt_tension_member"].check(
+            force + f_v, row.F_Tadm, key="tension_member", quantity="F_U + F_v",
+            reason="" if row.F_Tadm else f"{belt.name} {inp.width * 1e3:g} mm has no published F_Tadm"),
+        RULES["pretension_linear" if inp.layout == "linear" else "pretension_endless"].check(
+            f_v, rule, key="pretension"),
+        RULES["pulley_teeth"].check(float(z1), float(belt.z_min) if belt.z_min else None,
+                                    detail=minimum_pulley_teeth_source(belt),
+                                    reason="" if belt.z_min else f"the catalog gives no z_min for {belt.name}"),
+        RULES["teeth_in_mesh"].check(z_e),
     ]
     warnings = force_warnings + [c.warning() for c in failures(checks)]
     return BeltDriveReport(

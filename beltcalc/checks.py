@@ -160,23 +160,37 @@ class Rule:
     @property
     def formula(self) -> str:
         """The rule in symbols: ``"F_B / F >= 6"``, ``"F <= F_Tadm"``."""
+        return self.written()
+
+    def written(self, quantity: str | None = None) -> str:
+        """The rule in symbols with ``quantity`` as a command writes it (only where the limit
+        is data: a fixed limit's rule reads the same in every command)."""
         op = "<=" if self.kind == "max" else ">="
         if self.limit is None:
-            return f"{self.quantity} {op} {self.limit_name}"
+            return f"{quantity or self.quantity} {op} {self.limit_name}"
+        if quantity is not None:
+            raise ValueError(f"rule {self.key!r} has the fixed limit {self.limit:g}: its quantity is "
+                             f"{self.quantity!r} in every command (say what it is in `detail`)")
         unit = "" if self.unit in ("", "1") else f" {self.unit}"
         return f"{self.quantity} {op} {self.limit:g}{unit}"
 
-    def text(self, detail: str = "") -> str:
-        """The rule as a check states it: formula, source, then ``detail`` (this case)."""
-        return f"{self.formula} ({self.source})" + (f"; {detail}" if detail else "")
+    def text(self, detail: str = "", quantity: str | None = None) -> str:
+        """The rule as a check states it: formula, source, then ``detail`` (this case).
+
+        >>> RULES["belt_tension_member"].text("the catalog's F_Tadm", quantity="F_U + F_v")[:22]
+        'F_U + F_v <= F_Tadm (t'
+        """
+        return f"{self.written(quantity)} ({self.source})" + (f"; {detail}" if detail else "")
 
     def check(self, value: float | None, limit: float | None = None, *, key: str | None = None,
               name: str | None = None, detail: str = "", reason: str = "", signals: tuple[str, ...] = (),
-              level: float | None = None, unit: str | None = None, cls: type | None = None, **extra) -> Check:
+              level: float | None = None, unit: str | None = None, quantity: str | None = None,
+              cls: type | None = None, **extra) -> Check:
         """The :class:`Check` of ``value`` [``unit``] by this rule. ``limit``: only for a rule
         whose limit is data (None there with a ``reason``: n/a); a fixed limit cannot be given.
         ``key``/``name``: the check's own (default: the rule's); ``unit``: another spelling
-        of the rule's unit (``"N*m"`` for ``"N m"``); ``cls``: a :class:`Check` subclass (its
+        of the rule's unit (``"N*m"`` for ``"N m"``); ``quantity``: the compared quantity as
+        the command writes it (:meth:`written`); ``cls``: a :class:`Check` subclass (its
         ``extra`` fields)."""
         if self.limit is not None:
             if limit is not None:
@@ -185,7 +199,8 @@ class Rule:
         if unit is not None and unit.replace("*", " ") != self.unit.replace("*", " "):
             raise ValueError(f"rule {self.key!r} is in {self.unit!r}, not {unit!r}")
         return (cls or Check)(key or self.key, name or self.label, value, limit, unit or self.unit, kind=self.kind,
-                              rule=self.text(detail), reason=reason, signals=tuple(signals), level=level, **extra)
+                              rule=self.text(detail, quantity), reason=reason, signals=tuple(signals), level=level,
+                              **extra)
 
 
 _SHEET = "the motor's data sheet (catalogs/motors)"
@@ -209,12 +224,13 @@ RULES: Mapping[str, Rule] = {r.key: r for r in (
     Rule("belt_tension_member", "tension member", None, "N", "max", "F",
          "the belt maker's allowable tension F_Tadm per width (Elatech catalogue p. 55; catalogs/belts)",
          limit_name="F_Tadm", met_by=("belt-drive", "tension", "simulate drive")),
-    Rule("belt_pretension", "installation tension", None, "N", "min", "F_v",
-         "Elatech catalogue p. 55 (linear); endless: slack side T_2 = F_v - c2 F_U / 2 >= 0 at the design load "
-         "c2 F_U, Shigley eq. 17-1 with the Tsubaki service factor c2",
-         limit_name="F_U (linear drive) or c2 F_U / 2 (endless drive)", met_by=("belt-drive",)),
-    Rule("pulley_teeth", "pulley teeth", None, "1", "min", "z_1", "the belt maker's z_min (catalogs/belts)",
-         limit_name="z_min", met_by=("belt-drive",)),
+    Rule("pretension_linear", "installation tension", None, "N", "min", "F_v", "Elatech catalogue p. 55",
+         limit_name="F_U", met_by=("belt-drive",)),
+    Rule("pretension_endless", "installation tension", None, "N", "min", "F_v",
+         "slack side T_2 = F_v - c2 F_U / 2 >= 0 at the design load c2 F_U: Shigley eq. 17-1 with the Tsubaki "
+         "service factor c2", limit_name="c2 F_U / 2", met_by=("belt-drive",)),
+    Rule("pulley_teeth", "pulley teeth", None, "1", "min", "z_1",
+         "the belt maker's z_min (catalogs/belts: the maker's page)", limit_name="z_min", met_by=("belt-drive",)),
     Rule("teeth_in_mesh", "teeth in mesh", 6.0, "1", "min", "z_e",
          "Tsubaki Table 6: meshing factor 1.0 from 6 teeth in mesh", met_by=("belt-drive",)),
     Rule("damping_fit", "damping fit R^2", 0.9, "1", "min", "R^2",

@@ -236,9 +236,9 @@ def tension_checks(belt: BeltProfile, inp: TensionInputs, force: float, f_tadm: 
     where = f"{belt.name} {inp.width * 1e3:g} mm"
     tadm_from = "given (`f_tadm`)" if inp.f_tadm is not None else f"the catalog ({belt.source.document})"
     checks = [RULES["belt_tension_member"].check(
-        force, f_tadm, key="belt_tension", name=f"belt tension ({where})",
-        detail=f"F = F_t,peak, F_Tadm from {tadm_from}; above it the belt is overloaded: choose a wider belt "
-               "(`select_width`) or lower `accel` or `mass`")]
+        force, f_tadm, key="belt_tension", name=f"belt tension ({where})", quantity="F_t,peak",
+        detail=f"F_Tadm from {tadm_from}; above it the belt is overloaded: choose a wider belt (`select_width`) "
+               "or lower `accel` or `mass`")]
     fit_detail = "give `damping` from a measurement"
     if fit is not None:
         checks.append(RULES["damping_fit"].check(fit.r_squared, detail=fit_detail))

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
 from beltcalc.catalogs import Motor
-from beltcalc.checks import Check
+from beltcalc.checks import RULES, Check
 from beltcalc.drive import BeltAxis, Duty, duty, motor_damping
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.profiles import Trapezoid
@@ -78,14 +78,14 @@ def rating_checks(m: Motor, peak_torque: float, rms_torque: float, peak_speed: f
     rms_limit = m.T_n if rms_limit is None else rms_limit
     rms_from = "T_n" if rms_limit == m.T_n else "the continuous zone at the mean speed"
     out = [
-        Check("motor_peak", f"{m.name} peak torque", peak_torque * (1.0 + peak_margin), m.T_max, "N*m",
-              rule=f"peak torque x (1 + `peak_margin` {peak_margin:g}) <= T_max ({sheet})"),
-        Check("motor_rms", f"{m.name} RMS torque", rms_torque, rms_limit, "N*m",
-              rule=f"RMS torque over the cycle <= {rms_from} ({sheet})"),
+        RULES["motor_peak_torque"].check(peak_torque * (1.0 + peak_margin), m.T_max, key="motor_peak",
+                                         name=f"{m.name} peak torque", unit="N*m",
+                                         quantity=f"T_peak x (1 + `peak_margin` {peak_margin:g})", detail=sheet),
+        RULES["motor_rms_torque"].check(rms_torque, rms_limit, key="motor_rms", name=f"{m.name} RMS torque",
+                                        unit="N*m", detail=f"over the cycle, against {rms_from} ({sheet})"),
     ]
     if peak_speed is not None:
-        out.append(Check("motor_speed", f"{m.name} speed", peak_speed, m.n_max, "rad/s",
-                         rule=f"peak motor speed <= n_max ({sheet})"))
+        out.append(RULES["motor_speed"].check(peak_speed, m.n_max, name=f"{m.name} speed", detail=sheet))
     return out
 
 
@@ -99,16 +99,17 @@ def motor_checks(c: MotorCheck, ratio_limit: float = 10.0, peak_margin: float = 
     sheet = m.source.document
     rms_limit = c.continuous_limit if c.continuous_limit is not None else m.T_n
     out = rating_checks(m, d.peak_torque, d.rms_torque, getattr(d, "peak_speed", None), peak_margin, rms_limit)
-    out.append(Check("motor_inertia", f"{m.name} load/motor inertia ratio", c.inertia_ratio, ratio_limit, "1",
-                     rule=f"load inertia at the motor / rotor inertia <= `inertia_ratio_limit` {ratio_limit:g} "
-                          "(Parker's guidance for servos)"))
+    out.append(RULES["motor_inertia_ratio"].check(c.inertia_ratio, ratio_limit, key="motor_inertia",
+                                                  name=f"{m.name} load/motor inertia ratio",
+                                                  detail=f"load inertia at the motor / rotor inertia, "
+                                                         f"`inertia_ratio_limit` = {ratio_limit:g}"))
     z = c.zone
     if z is not None:
         where = f"worst at t = {z.time:.4g} s, {z.speed * 30 / math.pi:.0f} rpm"
-        out.append(Check("motor_zone", f"{m.name} torque-speed zone", z.limit - z.margin, z.limit, "N*m",
-                         rule=f"(1 + `peak_margin`) |T| <= the intermittent zone's torque at that speed, at every "
-                              f"point of the cycle ({'assumed zone' if c.zone_assumed else sheet}); outside the "
-                              f"intermittent zone the motor cannot deliver it; {where}"))
+        zone = "assumed zone" if c.zone_assumed else sheet
+        out.append(RULES["motor_zone"].check(z.limit - z.margin, z.limit, name=f"{m.name} torque-speed zone",
+                                             unit="N*m", detail=f"at every point of the cycle ({zone}); outside the "
+                                                                f"intermittent zone the motor cannot deliver it; {where}"))
     return out
 
 

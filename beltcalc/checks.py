@@ -204,6 +204,7 @@ class Rule:
 
 
 _SHEET = "the motor's data sheet (catalogs/motors)"
+_GEARBOX = "the gearbox's rating (catalogs/gearboxes: its maker's page)"
 _BREAKDOWN = ("Mamatova et al. 2016 eq. 2: an induction motor's linearised characteristic, up to its breakdown "
               "torque M_c")
 
@@ -257,8 +258,12 @@ RULES: Mapping[str, Rule] = {r.key: r for r in (
     Rule("motor_zone", "torque-speed zone", None, "N m", "max", "(1 + `peak_margin`) |T|",
          _SHEET + " (or an assumed zone)", limit_name="the intermittent zone's torque at that speed",
          met_by=("motor-size",)),
-    Rule("gearbox_rating", "gearbox rating", None, "", "max", "speed or torque",
-         "the gearbox's catalog (catalogs/gearboxes)", limit_name="its rating", met_by=("motor-size",)),
+    Rule("gearbox_input_speed", "gearbox input speed", None, "rad/s", "max", "n_in", _GEARBOX,
+         limit_name="n_max,in", met_by=("motor-size",)),
+    Rule("gearbox_peak_torque", "gearbox peak output torque", None, "N m", "max", "i T_peak,load", _GEARBOX,
+         limit_name="T_peak,out", met_by=("motor-size",)),
+    Rule("gearbox_rms_torque", "gearbox RMS output torque", None, "N m", "max", "i T_rms,load", _GEARBOX,
+         limit_name="T_rated,out", met_by=("motor-size",)),
     Rule("breakdown_peak", "motor peak torque", None, "N m", "max", "|M|", _BREAKDOWN, limit_name="M_c",
          met_by=("simulate sewing", "simulate roller-table", "simulate drive")),
     Rule("breakdown_mean", "motor mean torque", None, "N m", "max", "|M_mean|",

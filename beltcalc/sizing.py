@@ -15,7 +15,7 @@ from typing import Callable, Iterable, Mapping
 
 from beltcalc import belt as bm
 from beltcalc.catalogs import BeltProfile, Motor
-from beltcalc.checks import Check, failures
+from beltcalc.checks import RULES, Check, failures
 from beltcalc.drive import BeltAxis, cylinder_inertia
 from beltcalc.dutycycle import (CycleDuty, Drive, Gearbox, Mounting, Regeneration, Segment, capacitor_energy,
                                 regeneration)
@@ -590,8 +590,10 @@ def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor:
     if shown is not None:
         checks = motor_checks(shown, inp.inertia_ratio_limit, inp.peak_margin)
         src = gearbox.source or "the gearbox catalog"
-        checks += [Check(c.name.replace(" ", "_"), c.name, c.value, c.limit, c.unit.replace(" ", "*"),
-                         rule=f"{c.name} <= the gearbox's rating ({src})") for c in gb_checks]
+        rule = {"gearbox input speed": "gearbox_input_speed", "gearbox peak output torque": "gearbox_peak_torque",
+                "gearbox RMS output torque": "gearbox_rms_torque"}
+        checks += [RULES[rule[c.name]].check(c.value, c.limit, key=c.name.replace(" ", "_"),
+                                             unit=c.unit.replace(" ", "*"), detail=src) for c in gb_checks]
     warnings[:0] = [c.warning() for c in failures(checks)]
     notes = jerk_limited(segments, axis.carriage_per_motor())
     if opts.cycle is None and opts.incline != 0:

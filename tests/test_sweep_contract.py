@@ -118,7 +118,8 @@ def test_a_load_at_a_natural_frequency_fails_the_resonance_check():
 
 def test_plot_draws_the_limits_of_the_checks(tmp_path, monkeypatch):
     # the limit lines come from the checks that bound a plotted signal: breakdown torque on the
-    # motor-torque panel, the breaking load on the strand-force panel; the steady window shaded
+    # motor-torque panel, on the strand-force panel the force the chain's safety rule allows,
+    # F_B / 6 (Diamond Chain, issue 28); the steady window shaded
     import matplotlib
 
     matplotlib.use("Agg")
@@ -142,7 +143,7 @@ def test_plot_draws_the_limits_of_the_checks(tmp_path, monkeypatch):
     assert any("motor mean torque / motor peak torque limit" in ln for ln in lines)
     assert levels == pytest.approx([2.3 * 7.3])        # breakdown: 2.3 x the rated 7.3 N m (scene file)
     lines, levels = panels["strand force [N]"]
-    assert "strand force limit" in lines and levels == pytest.approx([22200.0])
+    assert "strand breaking-load safety limit" in lines and levels == pytest.approx([22200.0 / 6])
 
 
 def test_a_belt_heavier_than_its_carriage_fails_the_plausibility_check():

@@ -3,7 +3,8 @@
 Run: python benchmarks/roller_scaling.py [--rollers 1,3,10,30,100,200] [--radau-limit 600]
 
 For each roller count N the default scene runs with a per-roller load of 120 N m / N (the
-three-roller default's 3 x 40 N m in total, which the motor carries), 6 s at 5001 samples:
+three-roller default's 3 x 40 N m in total, which the motor carries), 7 s at 7001 samples
+(the scene's default run):
 
 * ``exact``, solve only (``estimate_error`` off) and end to end with its error estimate;
 * Radau (rtol 1e-9, atol 1e-12, events at every strand switch), in its own process, given
@@ -34,7 +35,7 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-T_END, SAMPLES, TOTAL_LOAD = 6.0, 5001, 120.0
+T_END, SAMPLES, TOTAL_LOAD = 7.0, 7001, 120.0
 
 
 def values(rollers: int) -> dict:

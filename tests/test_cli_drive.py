@@ -6,7 +6,6 @@ The sewing drive file gives the figures of `beltcalc simulate sewing` (the same 
 from __future__ import annotations
 
 import json
-import math
 
 import pytest
 from click.testing import CliRunner
@@ -24,7 +23,7 @@ def run(*args):
 
 def test_conveyor_report_follows_the_file():
     out = ok(run("conveyor")).stdout
-    nodes = [r[0] for r in table_rows(out, "nodes, t >= 3.5 s")]
+    nodes = [r[0] for r in table_rows(out, "nodes, t >= 4.5 s")]
     assert nodes == ["rotor", "gear_in", "gear_out", "pulley1", "pulley2", "sprocket1", "drum1", "sprocket2", "drum2"]
     assert [r[0] for r in table_rows(out, "couplings and shafts")] == ["jaw", "output_shaft", "drum1_shaft",
                                                                          "drum2_shaft"]
@@ -194,7 +193,6 @@ def test_every_malformed_file_case_through_the_cli(tmp_path, old, new, fragment)
 def test_help_names_the_built_in_drives():
     out = ok(CliRunner().invoke(cli, ["simulate", "drive", "--help"])).stdout
     assert "ELEMENT.KEY" in out and "conveyor" in out
-    assert math.isfinite(1.0)
 
 
 def test_roller_table_drive_file_is_the_scene_and_gives_its_figures():

@@ -632,10 +632,10 @@ def case(f):
 
 @case
 def roller3():
-    """Default roller table, 3 rollers, 300 N: 6 s, window 4.5 s, 6001 samples."""
-    times, out = drive_case("roller3", roller_drive(), 6.0, 4.5, 6001)
-    save_case("roller3", times, out, 10, {"rollers": 3, "pretension_N": 300.0, "t_end_s": 6.0,
-                                                   "window_s": 4.5, "samples": 6001})
+    """Default roller table, 3 rollers, 300 N: 7 s, window 5.5 s, 7001 samples."""
+    times, out = drive_case("roller3", roller_drive(), 7.0, 5.5, 7001)
+    save_case("roller3", times, out, 10, {"rollers": 3, "pretension_N": 300.0, "t_end_s": 7.0,
+                                                   "window_s": 5.5, "samples": 7001})
 
 
 @case

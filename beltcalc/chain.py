@@ -204,3 +204,51 @@ def chain_speed(pitch: float, teeth: int, speed: float) -> float:
     """
     require_positive("pitch", pitch, "m")
     return teeth * pitch * speed / (2.0 * math.pi)
+
+
+def chain_wrap_angle(pitch: float, teeth_small: int, teeth_large: int, center_distance: float) -> float:
+    r"""Chain wrap (arc of contact) on the small sprocket [rad].
+
+    .. math:: \theta_1 = \pi - 2 \arcsin\frac{d_2 - d_1}{2 C}
+
+    d_1, d_2 the pitch diameters p / sin(180 deg / z) [m], C the centre distance [m]: the
+    open-belt geometry of Shigley eq. (17-1) on the pitch circles. Equal sprockets: pi.
+
+    >>> round(math.degrees(chain_wrap_angle(0.0254, 17, 34, 0.635)), 2)
+    167.61
+    """
+    require_positive("center_distance", center_distance, "m")
+    d1 = sprocket_pitch_diameter(pitch, teeth_small)
+    d2 = sprocket_pitch_diameter(pitch, teeth_large)
+    if center_distance <= (d1 + d2) / 2:
+        raise InputError(f"{center_distance:g} m: the sprockets ({d1:.4g} m and {d2:.4g} m) overlap",
+                         param="center_distance")
+    return math.pi - 2.0 * math.asin((d2 - d1) / (2.0 * center_distance))
+
+
+LBF = 4.4482216152605                 # N per pound-force
+
+
+def galling_speed(pitch: float, teeth: int, tension: float) -> float:
+    r"""Highest small-sprocket speed before the pins and bushings gall [rad/s].
+
+    .. math:: n_1 \le 1000 \left[\frac{82.5}{7.95^p \, 1.0278^{N_1} \, 1.323^{F/1000}}\right]^{1/(1.59 \log_{10} p + 1.873)}
+              \ \text{rev/min}
+
+    p pitch [in], N_1 teeth of the small sprocket, F the chain tension [lbf] (Shigley 9th
+    ed., Section 17-5: "the maximum speed (rev/min) for a chain drive is limited by galling
+    between the pin and the bushing"; Table 17-20's Type C' cells are this region: "submit
+    design to manufacturer for evaluation"). It falls with pitch, teeth and tension.
+
+    >>> round(galling_speed(0.5 * 0.0254, 17, 0.0) * 30 / math.pi)
+    8061
+    """
+    require_positive("pitch", pitch, "m")
+    require_range("tension", tension, "N", 0.0)
+    p = pitch / 0.0254
+    exponent = 1.59 * math.log10(p) + 1.873
+    if exponent <= 0:
+        raise InputError(f"{pitch:g} m: below 0.066 in the galling formula has no meaning", param="pitch")
+    # in logarithms: a tension of 1e6 lbf makes 1.323^(F/1000) overflow, the limit just tends to 0
+    log_base = math.log(82.5) - p * math.log(7.95) - teeth * math.log(1.0278) - tension / LBF / 1000.0 * math.log(1.323)
+    return 1000.0 * math.exp(log_base / exponent) * math.pi / 30.0

@@ -16,6 +16,24 @@ References:
 [5] McGuire Bearing Company, "Better chain performance": the highest chain speed of Type A
     (manual) and Type B (oil bath) lubrication by chain number, 40 to 160 (in
     ``catalogs/chains.toml``, key ``lubrication``); above Type B, Type C (oil stream).
+[6] Shigley 9th ed., Section 17-5: "for smooth operation at moderate and high speeds ... a
+    driving sprocket with at least 17 teeth"; "driven sprockets are not made in standard
+    sizes over 120 teeth"; the galling speed limit (:func:`beltcalc.chain.galling_speed`),
+    Table 17-20's Type C' region ("submit design to manufacturer for evaluation").
+[7] Diamond Chain, FAQ (diamondchain.com/faq): "What is the recommended minimum chain wrap
+    in a roller chain drive?": 120 deg on the smallest sprocket; "What is the smallest
+    suggested sprocket size to minimize the effects of chordal action?": 12 teeth for a
+    slow drive (drip lubrication), 17 medium (oil bath), 25 high speed (pumped).
+[8] The chain makers' FAQ "How is the drive ratio of a roller chain drive calculated and
+    what is the maximum recommended single reduction?" (Diamond Chain's wording, as
+    reproduced at experts123.com): 7:1; above it a double reduction. Shigley [6]: the most
+    successful drives have ratios up to 6:1.
+[9] HKK Chain, engineering information, "Installation": the optimum centre distance is 30
+    to 50 times the chain pitch; 80 pitches is the longest the common design rules allow
+    (e.g. PTC Asia, "The center distance and chain length": a = (30-50) p, a_max <= 80 p).
+[10] U.S. Tsubaki, Roller Chain General Catalog, RS40/RS50 page, note 2: the maximum
+    allowable load with a one-pitch offset link is 65 % of the chain's (Tsubaki, "The
+    Complete Guide to Chain", Table 2.1: an offset link is 35 % lower in fatigue strength).
 """
 
 from __future__ import annotations
@@ -35,6 +53,14 @@ RPM = math.pi / 30.0                   # rad/s per rev/min
 # Multiple-strand factors K2, Shigley Table 17-23 [1]
 STRAND_FACTORS = {1: 1.0, 2: 1.7, 3: 2.5, 4: 3.3, 5: 3.9, 6: 4.6, 8: 6.0}
 LUBRICATION = {"A": "manual or drip", "B": "oil bath or slinger disc", "C": "oil stream (pump)"}   # [5]
+# Plausibility of the drive (issue 28): the makers' rules, each a check with its source.
+MIN_TEETH_BY_LUBRICATION = {"A": 12, "B": 17, "C": 25}   # small sprocket, by the drive's lubrication type [7]
+MIN_TEETH = 17                         # small sprocket where the lubrication type is not known [6]
+MAX_TEETH_LARGE = 120                  # [6]
+MAX_SPEED_RATIO = 7.0                  # z2 / z1 of one reduction [8]
+MIN_WRAP = 2.0 * math.pi / 3.0         # rad, 120 deg of chain wrap on the small sprocket [7]
+CENTER_PITCHES_RANGE = (30.0, 80.0)    # C / p [9]
+OFFSET_LINK_FACTOR = 0.65              # rating of a chain with a one-pitch offset link (odd link count) [10]
 
 
 def lubrication_type(chain_speed: float, limits: tuple[float, float] | None) -> str | None:
@@ -119,6 +145,7 @@ class ChainInputs:
     design_factor: float = 1.0
     center_distance: float | None = None
     center_pitches: float = 30.0
+    links: int | None = None            # a chain length asked for (the centre distance follows); odd: an offset link
 
 
 @dataclass(frozen=True)
@@ -134,6 +161,8 @@ class ChainCandidate:
     centrifugal: float | None          # N, q v^2
     safety_factor: float               # F_B / (K_s F + F_c); F_c left out where the mass is unknown
     carries: bool
+    galling_speed: float | None = None  # rad/s, Shigley 17-5 at the tension per strand [6]
+    derating: float = 1.0              # rating factor: OFFSET_LINK_FACTOR with an odd link count [10]
 
 
 @dataclass(frozen=True)
@@ -145,8 +174,10 @@ class ChainGeometry:
     root_diameters: tuple[float, float]
     links_exact: float
     links: int
-    center_distance: float             # m, back-solved for the even link count
+    center_distance: float             # m, back-solved for the link count
     polygon_variation: tuple[float, float]
+    center_distance_asked: float | None = None   # m, the centre distance given (None: the link count was given)
+    wrap_small: float = math.pi        # rad, chain wrap on the small sprocket at ``center_distance``
 
 
 @dataclass(frozen=True)
@@ -175,37 +206,53 @@ SELECTION_RULE = ("rated power K2 min(H1, H2) >= n_d K_s P (ACA formulas, Shigle
 
 
 def chain_geometry(chain: Chain, inp: ChainInputs) -> ChainGeometry:
-    """Sprocket diameters (ISO 606), chain length in even links and the centre distance
-    back-solved for it (Shigley eq. 17-34/35), polygon speed variation."""
+    """Sprocket diameters (ISO 606), chain length in even links (or the ``links`` asked for)
+    and the centre distance back-solved for it (Shigley eq. 17-34/35), polygon speed
+    variation, chain wrap on the small sprocket."""
     z1, z2 = inp.teeth_small, inp.teeth_large
-    c = inp.center_distance if inp.center_distance is not None else inp.center_pitches * chain.pitch
     d = (cm.sprocket_pitch_diameter(chain.pitch, z1), cm.sprocket_pitch_diameter(chain.pitch, z2))
-    if c <= (d[0] + d[1]) / 2:
-        raise InputError(f"{c:g} m: the sprockets of {chain.name} ({d[0]:.4g} m and {d[1]:.4g} m) overlap",
-                         param="center_distance")
-    exact = cm.chain_length_links(c, chain.pitch, z1, z2)
-    links = cm.chain_links_even(exact)
+    if inp.links is not None:
+        if inp.links != int(inp.links) or inp.links < 1:
+            raise InputError(f"{inp.links:g} is not allowed; a chain has a whole number of links >= 1", param="links")
+        c_asked, links = None, int(inp.links)
+        exact = float(links)
+    else:
+        c_asked = inp.center_distance if inp.center_distance is not None else inp.center_pitches * chain.pitch
+        if c_asked <= (d[0] + d[1]) / 2:
+            raise InputError(f"{c_asked:g} m: the sprockets of {chain.name} ({d[0]:.4g} m and {d[1]:.4g} m) overlap",
+                             param="center_distance")
+        exact = cm.chain_length_links(c_asked, chain.pitch, z1, z2)
+        links = cm.chain_links_even(exact)
+    center = cm.chain_center_distance(links, chain.pitch, z1, z2)
+    if center <= (d[0] + d[1]) / 2:
+        raise InputError(f"{links} links: the sprockets of {chain.name} ({d[0]:.4g} m and {d[1]:.4g} m) would overlap",
+                         param="links")
     return ChainGeometry(
         pitch_diameters=d,
         tip_diameters=(cm.sprocket_tip_diameters(chain.pitch, z1, chain.roller_diameter),
                        cm.sprocket_tip_diameters(chain.pitch, z2, chain.roller_diameter)),
         root_diameters=(cm.sprocket_root_diameter(chain.pitch, z1, chain.roller_diameter),
                         cm.sprocket_root_diameter(chain.pitch, z2, chain.roller_diameter)),
-        links_exact=exact, links=links,
-        center_distance=cm.chain_center_distance(links, chain.pitch, z1, z2),
+        links_exact=exact, links=links, center_distance=center,
         polygon_variation=(cm.polygon_speed_variation(z1), cm.polygon_speed_variation(z2)),
+        center_distance_asked=c_asked, wrap_small=cm.chain_wrap_angle(chain.pitch, z1, z2, center),
     )
 
 
 def check_chain(chain: Chain, inp: ChainInputs, power: float, required: float) -> ChainCandidate:
-    """Rating, pull, centrifugal pull and breaking-load safety of one chain."""
+    """Rating (x :data:`OFFSET_LINK_FACTOR` with an odd ``links``), pull, centrifugal pull,
+    breaking-load safety and galling speed of one chain."""
     rated, governing = rated_power(chain, inp.teeth_small, inp.speed)
+    derating = OFFSET_LINK_FACTOR if inp.links is not None and int(inp.links) % 2 else 1.0     # [10]
+    rated *= derating
     v = cm.chain_speed(chain.pitch, inp.teeth_small, inp.speed)
     pull = power / v
     f_c = chain.mass * v * v if chain.mass is not None else None
-    safety = chain.breaking_load / (inp.service_factor * pull + (f_c or 0.0))   # no mass: without q v^2
+    tension = inp.service_factor * pull + (f_c or 0.0)
+    safety = chain.breaking_load / tension   # no mass: without q v^2
     carries = rated >= required and RULES["chain_safety"].check(safety).verdict == "pass"     # [3]
-    return ChainCandidate(chain, rated, governing, required / rated, v, pull, f_c, safety, carries)
+    galling = cm.galling_speed(chain.pitch, inp.teeth_small, tension / chain.strands) if tension < 1e300 else 0.0
+    return ChainCandidate(chain, rated, governing, required / rated, v, pull, f_c, safety, carries, galling, derating)
 
 
 def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = None) -> ChainReport:
@@ -262,13 +309,14 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
                              f"strongest, {top.chain.name}, is rated {top.rated_power / 1e3:.4g} kW); use more teeth, "
                              "a faster shaft or more strands")
         chosen = min(best.values(), key=lambda c: (c.chain.pitch, c.chain.strands))
-    checks = chain_checks(chosen, required)
+    geometry = chain_geometry(chosen.chain, inp)
+    lube = lubrication_type(chosen.chain_speed, chosen.chain.lubrication)
+    checks = chain_checks(chosen, required, inp, geometry, lube)
     warnings = [c.warning() for c in failures(checks)]
-    notes = []
+    notes = [length_note(chosen.chain, geometry, chosen.derating)]
     if chosen.centrifugal is None:
         notes.append(f"{chosen.chain.name}: the catalog has no mass for it: the centrifugal pull q v^2 is not "
                      "computed and the safety factor leaves it out")
-    lube = lubrication_type(chosen.chain_speed, chosen.chain.lubrication)
     if lube is None:
         notes.append(f"{chosen.chain.name}: the catalog has no lubrication limits for its pitch (McGuire Bearing's "
                      "table covers chains 40 to 160): no lubrication type")
@@ -280,22 +328,95 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
         power=power, required=required, torque=power / inp.speed, speed=inp.speed,
         teeth=(inp.teeth_small, inp.teeth_large), service_factor=inp.service_factor,
         design_factor=inp.design_factor, candidates=candidates, best_per_strands=best, chosen=chosen,
-        geometry=chain_geometry(chosen.chain, inp), rule=SELECTION_RULE, lubrication=lube, warnings=tuple(warnings),
+        geometry=geometry, rule=SELECTION_RULE, lubrication=lube, warnings=tuple(warnings),
         checks=tuple(checks),
     )
 
 
-def chain_checks(c: ChainCandidate, required: float) -> list[Check]:
-    """The chosen (or named) chain's checks: its rating against the required rating, and its
-    breaking-load safety (the two rules of :data:`SELECTION_RULE`).
+def length_note(chain: Chain, g: ChainGeometry, derating: float) -> str:
+    """What the chain length did to the centre distance: rounded to whole (even) links, or
+    the link count asked for, with the offset link of an odd count."""
+    p = chain.pitch
+    if g.center_distance_asked is None:
+        odd = (f"; an odd count: one offset link, the rating x {derating:g} (U.S. Tsubaki: 65 % of the maximum "
+               "allowable load with a one-pitch offset link)" if g.links % 2 else "")
+        return (f"chain length: {g.links} links (`links`), centre distance C = {g.center_distance * 1e3:.6g} mm "
+                f"({g.center_distance / p:.4g} pitches){odd}")
+    if abs(g.links_exact - g.links) <= 1e-9:
+        return (f"chain length: {g.links} links fit the centre distance {g.center_distance_asked * 1e3:.6g} mm "
+                "exactly")
+    return (f"chain length: the centre distance {g.center_distance_asked * 1e3:.6g} mm "
+            f"({g.center_distance_asked / p:.4g} pitches) needs {g.links_exact:.4f} pitches of chain, rounded up to "
+            f"{g.links} links (an even count: no offset link), which moves C to {g.center_distance * 1e3:.6g} mm; "
+            "`links` asks for another count (an odd one takes an offset link, the rating x "
+            f"{OFFSET_LINK_FACTOR:g})")
 
-    A chain that does not carry the drive (``--chain`` names it) fails one or both.
+
+def chain_checks(c: ChainCandidate, required: float, inp: ChainInputs | None = None,
+                 g: ChainGeometry | None = None, lube: str | None = None) -> list[Check]:
+    """The chosen (or named) chain's checks: its rating against the required rating and its
+    breaking-load safety (the two rules of :data:`SELECTION_RULE`); with the drive (``inp``)
+    and its geometry ``g`` also the speed the ratings hold to (galling [6]), the
+    lubrication data, and the makers' plausibility rules: small-sprocket teeth by the
+    lubrication type ``lube`` [6][7], large-sprocket teeth [6], ratio [8], chain wrap [7],
+    centre distance in pitches [9].
+
+    A chain that does not carry the drive (``--chain`` names it) fails one or both of the
+    first two. Above the galling speed the rating is unverified, not a pass: the ACA charts
+    do not vouch for it there (Shigley Table 17-20's C' region: ask the maker).
     """
     name = c.chain.name
     fc = "" if c.centrifugal is not None else "; no chain mass in the catalog: q v^2 left out"
-    return [
+    galls = rating_beyond = ""
+    rpm = 30.0 / math.pi
+    if inp is not None and c.galling_speed is not None and inp.speed > c.galling_speed * (1.0 + 1e-12):
+        galls = (f"{inp.speed * rpm:.6g} rpm is above {name}'s galling speed, {c.galling_speed * rpm:.5g} rpm on "
+                 f"{inp.teeth_small} teeth at this tension: pins and bushings gall (Shigley 17-5); submit the drive "
+                 "to the chain maker")
+        rating_beyond = (f"the ACA rating charts do not vouch for a rating above the galling speed "
+                         f"({c.galling_speed * rpm:.5g} rpm; Shigley Table 17-20's Type C' region)")
+    derated = f"; x {c.derating:g} for the offset link of an odd link count (U.S. Tsubaki)" if c.derating != 1 else ""
+    checks = [
         RULES["chain_rating"].check(required, c.rated_power, key="rating", name=f"{name} power rating",
-                                    detail=f"the {c.governing} limit; over it the chain does not carry the drive"),
+                                    detail=f"the {c.governing} limit{derated}; over it the chain does not carry the "
+                                           "drive", unverified=rating_beyond if required <= c.rated_power else ""),
         RULES["chain_safety"].check(c.safety_factor, key="safety", name=f"{name} breaking-load safety",
                                     detail=f"F = K_s F_pull + q v^2, the service factor K_s for the shocks{fc}"),
     ]
+    if inp is None or g is None:
+        return checks
+    z1, z2 = inp.teeth_small, inp.teeth_large
+    checks.append(Check("galling", f"{name} speed vs galling", inp.speed, c.galling_speed, "rad/s",
+                        rule="n_1 <= 1000 [82.5 / (7.95^p 1.0278^N_1 1.323^(F/1000))]^(1/(1.59 log p + 1.873)) rpm, "
+                             "p in, F = (K_s F_pull + q v^2) per strand in lbf (Shigley 9th ed. 17-5: galling "
+                             "between pin and bushing)", unverified=galls))
+    if lube is None:
+        checks.append(Check("lubrication", f"{name} lubrication", c.chain_speed, None, "m/s",
+                            rule="lubrication type by chain speed (McGuire Bearing's table, chains 40-160)",
+                            unverified=f"the catalog has no lubrication limits for {name}: at "
+                                       f"{c.chain_speed:.4g} m/s the lubrication it needs is not known; ask the "
+                                       "chain maker"))
+    min_teeth = MIN_TEETH_BY_LUBRICATION[lube] if lube is not None else MIN_TEETH
+    teeth_rule = (f"z_1 >= {min_teeth} with Type {lube} lubrication; 12 / 17 / 25 teeth for drip, oil bath, pumped "
+                  "lubrication (Diamond Chain FAQ, smallest sprocket for chordal action)" if lube is not None
+                  else f"z_1 >= {MIN_TEETH} for moderate and high speeds (Shigley 9th ed. 17-5; the lubrication "
+                       "type is not known)")
+    c_p = g.center_distance / c.chain.pitch
+    low, high = CENTER_PITCHES_RANGE
+    checks += [
+        Check("teeth_small", "small sprocket teeth", float(z1), float(min_teeth), "1", kind="min", rule=teeth_rule),
+        Check("teeth_large", "large sprocket teeth", float(z2), float(MAX_TEETH_LARGE), "1",
+              rule=f"z_2 <= {MAX_TEETH_LARGE} (Shigley 9th ed. 17-5: no standard sprockets above; the worn chain "
+                   "rides high)"),
+        Check("ratio", "speed ratio", z2 / z1, MAX_SPEED_RATIO, "1",
+              rule=f"z_2 / z_1 <= {MAX_SPEED_RATIO:g} for one reduction (chain makers' FAQ; Shigley 17-5: the most "
+                   "successful drives up to 6:1); above it two reductions"),
+        Check("wrap", "chain wrap, small sprocket", g.wrap_small, MIN_WRAP, "rad", kind="min",
+              rule="theta_1 >= 120 deg (Diamond Chain FAQ, minimum chain wrap; 90 deg only with close tension "
+                   "control)"),
+        Check("center_pitches", "centre distance in pitches", c_p, low if c_p < (low + high) / 2 else high, "1",
+              kind="min" if c_p < (low + high) / 2 else "max",
+              rule=f"{low:g} <= C / p <= {high:g} (HKK Chain: 30-50 pitches optimum; 80 the longest the common "
+                   "rules allow)"),
+    ]
+    return checks

@@ -213,7 +213,8 @@ def test_cli_default_reproduces_the_example():
     assert out["best_per_strands"] == {"1": "200-1", "2": "160-2", "3": "140-3", "4": "140-4"}
     assert out["links"]["value"] == 76
     assert out["power"]["value"] == pytest.approx(90 * HP, rel=1e-12)
-    assert out["warnings"] == []
+    # the example's C/p = 25 (76 links: 25.10 pitches) is below the makers' 30-50 pitches: the one warning
+    assert len(out["warnings"]) == 1 and out["warnings"][0].startswith("centre distance in pitches FAILS: 25.1 ")
 
 
 def test_cli_named_chain_that_does_not_carry_warns():

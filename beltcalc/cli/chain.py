@@ -22,6 +22,10 @@ from beltcalc.cli.output import (Row, console, dumps, emit_warnings, print_table
 @quantity_option("--design-factor", si_unit="", default="1.5", help="Design factor n_d on the required rating.")
 @quantity_option("--center-distance", si_unit="m", display="mm", help="Centre distance [default: --center-pitches x pitch].")
 @quantity_option("--center-pitches", si_unit="", default="25", help="Centre distance in chain pitches, C/p.")
+@click.option("--links", type=click.IntRange(min=1), default=None,
+              help="Chain length in links instead of a centre distance (the centre distance follows); an odd count "
+                   "takes an offset link, the rating x 0.65 [default: the even count at or above the centre "
+                   "distance's].")
 @click.option("--series", type=click.Choice(["all", "A", "B"]), default="all", show_default=True,
               help="ISO 606 series to choose from: A (ANSI) or B (DIN 8187).")
 @click.option("--strands", type=click.IntRange(min=1, max=4), default=None, help="Only chains of this many strands.")
@@ -31,7 +35,7 @@ from beltcalc.cli.output import (Row, console, dumps, emit_warnings, print_table
 @strict_option
 @click.pass_context
 def chain(ctx, power, torque, speed, teeth, teeth_large, service_factor, design_factor, center_distance, center_pitches,
-          series, strands, chain_name, catalog_paths, as_json, csv_path, strict):
+          links, series, strands, chain_name, catalog_paths, as_json, csv_path, strict):
     """Roller-chain selection by the ACA power-rating formulas, with ISO 606 sprockets.
 
     With no options: Shigley's Example 17-5 (90 hp at 300 rev/min, 17/34 teeth, K_s = 1.3,
@@ -41,6 +45,9 @@ def chain(ctx, power, torque, speed, teeth, teeth_large, service_factor, design_
     from beltcalc.catalogs import load_catalog
     from beltcalc.chain_select import HORSEPOWER, LUBRICATION, ChainInputs, select_chain
 
+    if links is not None and center_distance is not None:
+        raise click.BadParameter("give --links or --center-distance, not both: the link count sets the centre "
+                                 "distance", param_hint="--links")
     cat = load_catalog(catalog_paths)
     if chain_name is not None:
         chains = [cat.chain(chain_name)]
@@ -51,7 +58,7 @@ def chain(ctx, power, torque, speed, teeth, teeth_large, service_factor, design_
         power = 90 * HORSEPOWER
     inputs = ChainInputs(speed=speed, teeth_small=teeth, teeth_large=teeth_large, power=power, torque=torque,
                          service_factor=service_factor, design_factor=design_factor,
-                         center_distance=center_distance, center_pitches=center_pitches)
+                         center_distance=center_distance, center_pitches=center_pitches, links=links)
     with out_of_range(ctx):
         report = select_chain(inputs, chains, name=chains[0].name if chain_name is not None else None)
 
@@ -73,14 +80,14 @@ def chain(ctx, power, torque, speed, teeth, teeth_large, service_factor, design_
                    lubrication_method=LUBRICATION.get(report.lubrication),
                    candidates=[candidate_json(c) for c in report.candidates if c.carries],
                    best_per_strands={str(k): v.chain.name for k, v in sorted(report.best_per_strands.items())},
-                   notes=list(report.notes), inputs=inputs, checks=checks_json(report.checks), warnings=warnings)
+                   notes=options_text(report.notes), inputs=inputs, checks=checks_json(report.checks), warnings=warnings)
         click.echo(dumps(obj))
         return
     print_candidates(report)
     c = report.chosen.chain
     print_table(f"Chain {c.name} ({c.series} series, pitch {c.pitch * 1e3:g} mm), "
                 f"z = {report.teeth[0]}/{report.teeth[1]}", [("drive", shown(rows)), ("checks (utilisation)", shown(checks))],
-                notes=[f"rule: {report.rule}", f"data: {c.source.path}", *report.notes])
+                notes=[f"rule: {report.rule}", f"data: {c.source.path}", *options_text(report.notes)])
 
 
 def candidate_json(c) -> dict:
@@ -114,13 +121,16 @@ def report_rows(r) -> list[Row]:
         Row("torque", "torque on the small sprocket", r.torque, "N m"),
         Row("speed", "small sprocket speed", r.speed, "rad/s", "rpm"),
         Row("required_rating", "required rating n_d K_s P", r.required, "W", "kW"),
-        Row("rated_power", f"rated power of {ch.name} ({c.governing})", c.rated_power, "W", "kW"),
+        Row("rated_power", f"rated power of {ch.name} ({c.governing})", c.rated_power, "W", "kW",
+            note=f"x {c.derating:g}, offset link" if c.derating != 1 else ""),
         Row("utilisation", "utilisation", c.utilisation, "1", "percent", digits=3),
         Row("chain_speed", "chain speed v", c.chain_speed, "m/s"),
         Row("pull", "chain pull F = P / v", c.pull, "N"),
         Row("centrifugal_pull", "centrifugal pull q v^2", c.centrifugal, "N"),
         Row("breaking_load", "breaking load F_B (ISO 606 / ASME B29.1 minimum)", ch.breaking_load, "N", "kN"),
         Row("safety_factor", "safety F_B / (K_s F + q v^2)", c.safety_factor, "1", digits=3, note=">= 6 (Diamond Chain)"),
+        Row("galling_speed", "galling speed (Shigley 17-5)", c.galling_speed, "rad/s", "rpm",
+            note="the speed the ratings hold to"),
         *lubrication_rows(r),
         Row("pitch_diameter_small", "pitch diameter d1", g.pitch_diameters[0], "m", "mm"),
         Row("pitch_diameter_large", "pitch diameter d2", g.pitch_diameters[1], "m", "mm"),
@@ -130,9 +140,17 @@ def report_rows(r) -> list[Row]:
         Row("tip_diameter_large_max", "tip diameter d2, max (ISO 606)", g.tip_diameters[1][1], "m", "mm"),
         Row("root_diameter_small", "root diameter d1 - d_roller", g.root_diameters[0], "m", "mm"),
         Row("root_diameter_large", "root diameter d2 - d_roller", g.root_diameters[1], "m", "mm"),
-        Row("links_exact", "chain length for the centre distance", g.links_exact, "1", digits=6, note="pitches"),
-        Row("links", "chain length (even)", float(g.links), "1", note="links"),
+        *([] if g.center_distance_asked is None else [
+            Row("center_distance_asked", "centre distance asked", g.center_distance_asked, "m", "mm", digits=6),
+            Row("links_exact", "chain length for the centre distance", g.links_exact, "1", digits=6,
+                note="pitches")]),
+        Row("links", "chain length (even)" if g.links % 2 == 0 else "chain length (odd: one offset link)",
+            float(g.links), "1", note="links" if g.center_distance_asked is not None else "links, asked (--links)"),
         Row("center_distance", "centre distance for it (back-solved)", g.center_distance, "m", "mm", digits=6),
+        Row("center_pitches", "centre distance C / p", g.center_distance / ch.pitch, "1", digits=4,
+            note="30-80 (HKK Chain: 30-50 optimum)"),
+        Row("wrap_small", "chain wrap, small sprocket", g.wrap_small, "rad", "deg", note=">= 120 deg"),
+        Row("speed_ratio", "speed ratio z2 / z1", r.teeth[1] / r.teeth[0], "1", digits=4, note="<= 7"),
         Row("polygon_variation_small", "polygon speed variation, small", g.polygon_variation[0], "1", "percent",
             digits=3, note="1 - cos(180 deg / z)"),
         Row("polygon_variation_large", "polygon speed variation, large", g.polygon_variation[1], "1", "percent",

@@ -45,7 +45,7 @@ class Key:
     unit: str
     help: str
     required: bool = False
-    low: str = ""          # "": any value; ">0" positive; ">=0" not negative
+    low: str = ""          # "": any value; ">0" positive; ">=0" not negative; "!=0" not zero
 
     @property
     def scalar(self) -> bool:
@@ -102,7 +102,8 @@ KEYS: dict[str, dict[str, Key]] = {
     "gear": {
         "name": Key("text", "unique name"),
         "between": Key("names", "[node a, node b]", True),
-        "ratio": Key("", "speed of a / speed of b (phi_b = phi_a / ratio)", True, low=">0"),
+        "ratio": Key("", "speed of a / speed of b (phi_b = phi_a / ratio; negative: the pair reverses, as "
+                         "an external gear pair does)", True, low="!=0"),
     },
     "belt_span": {
         "name": Key("text", "unique name"),
@@ -138,7 +139,7 @@ KEYS: dict[str, dict[str, Key]] = {
         "breakdown_factor": Key("", "induction: breakdown torque / rated torque", low=">0"),
         "breakdown_slip": Key("", "induction: breakdown slip", low=">0"),
         "supply": Key("Hz", "induction: supply frequency", low=">0"),
-        "pole_pairs": Key("int", "induction: pole pairs"),
+        "pole_pairs": Key("int", "induction: pole pairs [default: inferred from rated_speed and supply]"),
         "ramp": Key("s", "induction: inverter ramp from 0 to the supply frequency (0: none)", low=">=0"),
         "speed": Key("rad/s|m/s", "prescribed: initial speed"),
         "accel": Key("table:s,rad/s^2|m/s^2", "prescribed: acceleration table [[t, a], ...]"),
@@ -165,6 +166,56 @@ KEYS: dict[str, dict[str, Key]] = {
     },
 }
 KINDS = ("induction", "prescribed", "speed_loop", "torque")
+# the keys of each motor kind (beside name, kind, node)
+KIND_KEYS = {"induction": {"rated_torque", "rated_power", "rated_speed", "breakdown_factor", "breakdown_slip",
+                           "supply", "pole_pairs", "ramp"},
+             "prescribed": {"speed", "accel", "distance", "max_speed", "max_accel", "jerk", "start"},
+             "speed_loop": {"gain", "reference", "feedforward"}, "torque": {"torque"}}
+
+# The largest rated slip an induction motor's rated speed may give: NEMA design D, the
+# high-slip motors, run at 5-8 % or 8-13 % slip at rated load; designs A-C and E below 5 %
+# (EASA Electrical Engineering Handbook, "General Speed-Torque Characteristics, Three-Phase
+# Induction Motors", after NEMA MG 10 table 2-1; its 15-25 % class of design D was never made
+# and was deleted from NEMA MG 1-2003). 15 %: design D's 13 % with a margin.
+MAX_RATED_SLIP = 0.15
+
+
+def pole_pairs_from_speed(rated_speed: float, supply: float) -> tuple[int, float]:
+    r"""The pole pairs of an induction motor from its rated speed and its supply, and the
+    rated slip they give: the largest p whose synchronous speed is above the rated speed.
+
+    .. math:: \omega_0 = 2 \pi f / p > \omega_n, \quad s_n = 1 - \omega_n / \omega_0
+
+    Parameters
+    ----------
+    rated_speed : float
+        Rated speed omega_n, [rad/s]
+    supply : float
+        Supply frequency f, [Hz]
+
+    Returns
+    -------
+    tuple[int, float]
+        (p, s_n); p = 0 when the rated speed is at or above the synchronous speed of one
+        pole pair (then s_n <= 0)
+
+    Notes
+    -----
+    Whether s_n is plausible is the caller's check (:data:`MAX_RATED_SLIP`).
+
+    Examples
+    --------
+    >>> p, s = pole_pairs_from_speed(1400 * math.pi / 30, 50.0)     # 1400 rpm at 50 Hz: 1500 rpm, 4 poles
+    >>> p, round(s, 4)
+    (2, 0.0667)
+    """
+    ratio = 2 * math.pi * supply / rated_speed       # synchronous speed of one pole pair / rated speed
+    p = max(math.ceil(ratio) - 1, 0)
+    if p >= 1 and not 2 * math.pi * supply / p > rated_speed:   # rounding at a whole ratio
+        p -= 1
+    if p < 1:
+        return 0, 1 - rated_speed / (2 * math.pi * supply)
+    return p, 1 - rated_speed * p / (2 * math.pi * supply)
 
 
 @dataclass(frozen=True)
@@ -248,7 +299,8 @@ class DriveFile:
         head = data.get("drive", {})
         if not isinstance(head, dict):
             self.fail("drive", "", "[drive] must be a table")
-        self._check_keys(Entry("drive", "drive", 0, head))
+        problems: list[tuple[str, str, str]] = []      # (where, key, what): all of them in one message
+        self._check_keys(Entry("drive", "drive", 0, head), problems)
         self.head = Entry("drive", "drive", 0, head)
         self.entries: list[Entry] = []
         names: dict[str, str] = {}
@@ -259,14 +311,17 @@ class DriveFile:
             for k, raw in enumerate(items, 1):
                 name = raw.get("name", f"{section}{k}")
                 if not isinstance(name, str) or not name.strip() or "." in name or "=" in name:
-                    self.fail(f"{section} {k}", "name", "must be a text without '.' or '='")
+                    problems.append((f"{section} {k}", "name", "must be a text without '.' or '='"))
+                    continue
                 entry = Entry(section, name, k, raw)
-                self._check_keys(entry)
+                self._check_keys(entry, problems)
                 # names are unique, but a motor may take the name of the node it drives
                 if name in names and not (section == "motor" and names[name] == "node" and raw.get("node") == name):
-                    self.fail(entry.where, "name", f"repeats the name of a {names[name]}; names are unique")
+                    problems.append((entry.where, "name", f"repeats the name of a {names[name]}; names are unique"))
                 names[name] = section
                 self.entries.append(entry)
+        if problems:       # with what a build would find missing in the file too, so one try shows all
+            self.fail_all(problems + [q for e in self.entries for q in self._kind_missing(e, set(e.raw))])
         self.nodes = {e.name: e for e in self.entries if e.section == "node"}
         if not self.nodes:
             self.fail("node", "", "a drive needs at least one [[node]]")
@@ -289,14 +344,61 @@ class DriveFile:
         at = f"{where}: {key}" if key else where
         raise DriveFileError(f"{self.path}: {at}: {message}")
 
-    def _check_keys(self, entry: Entry) -> None:
+    def fail_all(self, problems: list[tuple[str, str, str]]):
+        """Raise one error for all ``problems`` (where, key, what): one line, each problem
+        as :meth:`fail` says it."""
+        if len(problems) == 1:
+            self.fail(*problems[0])
+        text = "; ".join(f"{where}: {key}: {what}" if key else f"{where}: {what}" for where, key, what in problems)
+        raise DriveFileError(f"{self.path}: {len(problems)} problems: {text}")
+
+    def _check_keys(self, entry: Entry, problems: list) -> None:
+        """Append to ``problems`` every unknown key of ``entry``, every key its section needs
+        that it lacks, and for a motor every key its kind does not have."""
         keys = KEYS[entry.section]
         for key in entry.raw:
             if key not in keys:
-                self.fail(entry.where, key, f"unknown key; a {entry.section} has {', '.join(keys)}")
+                problems.append((entry.where, key, f"unknown key; a {entry.section} has {', '.join(keys)}"))
         for key, spec in keys.items():
             if spec.required and key not in entry.raw and not (key == "name" and entry.section != "node"):
-                self.fail(entry.where, key, f"missing ({spec.help})")
+                problems.append((entry.where, key, f"missing ({spec.help})"))
+        kind = entry.raw.get("kind") if entry.section == "motor" else None
+        if kind is not None and kind not in KINDS:
+            problems.append((entry.where, "kind", f"{kind!r}; use one of {', '.join(KINDS)}"))
+        elif kind is not None:
+            allowed = KIND_KEYS[kind]
+            for key in entry.raw:
+                if key in keys and key not in allowed | {"name", "kind", "node"}:
+                    problems.append((entry.where, key, f"not a key of a {kind} motor (it has "
+                                                       f"{', '.join(sorted(allowed))})"))
+
+    def _kind_missing(self, e: Entry, given: set) -> list[tuple[str, str, str]]:
+        """What a motor of ``e``'s kind needs and ``given`` (its keys in the file and set)
+        lacks, as (where, key, what)."""
+        kind = e.raw.get("kind") if e.section == "motor" else None
+        if kind not in KINDS:
+            return []
+        help_of = KEYS["motor"]
+        need = {"induction": ("supply", "breakdown_factor", "breakdown_slip"), "speed_loop": ("gain", "reference"),
+                "torque": ("torque",), "prescribed": ("max_speed", "max_accel") if "distance" in given else ()}[kind]
+        out = [(e.where, key, f"missing ({help_of[key].help})") for key in need if key not in given]
+        if kind == "induction":
+            if "rated_torque" not in given and not {"rated_power", "rated_speed"} <= given:
+                out.append((e.where, "rated_torque", "missing: give rated_torque, or rated_power and rated_speed"))
+            if "pole_pairs" not in given and "rated_speed" not in given:
+                out.append((e.where, "pole_pairs", "missing: give it, or rated_speed to infer it from the supply"))
+        return out
+
+    def check_motors(self, values: dict) -> None:
+        """Every key the motors' kinds need that neither the file nor ``values`` (addresses
+        set) gives: one :class:`DriveFileError` naming them all."""
+        problems = []
+        for e in self.entries:
+            if e.section == "motor":
+                given = set(e.raw) | {a.split(".", 1)[1] for a in values if a.startswith(f"{e.name}.")}
+                problems += self._kind_missing(e, given)
+        if problems:
+            self.fail_all(problems)
 
     # --- parameters -------------------------------------------------------------------------
     def unit(self, e: Entry, key: str) -> str:
@@ -386,6 +488,7 @@ class DriveFile:
         """(the builder, the network) of ``values``; ``flexible`` keeps rigid couplings elastic."""
         from beltcalc.sim.network import Network
 
+        self.check_motors(values)
         b = _Builder(self, values, catalog, flexible)
         try:
             with float_range(lambda: f"a value of {b.current}"):
@@ -770,26 +873,15 @@ class _Builder:
         from beltcalc.sim.network import InductionMotor, Load, Prescribed, SpeedLoop
 
         kind, node = self.need(e, "kind"), self.node_name(e, "node")
-        if kind not in KINDS:
+        if kind not in KINDS:           # (the file's own kind is checked on reading; this is a kind set)
             self.f.fail(e.where, "kind", f"{kind!r}; use one of {', '.join(KINDS)}")
-        allowed = {"induction": {"rated_torque", "rated_power", "rated_speed", "breakdown_factor", "breakdown_slip",
-                                 "supply", "pole_pairs", "ramp"},
-                   "prescribed": {"speed", "accel", "distance", "max_speed", "max_accel", "jerk", "start"},
-                   "speed_loop": {"gain", "reference", "feedforward"}, "torque": {"torque"}}[kind]
-        for key in e.raw:
-            if key not in allowed | {"name", "kind", "node"}:
-                self.f.fail(e.where, key, f"not a key of a {kind} motor (it has {', '.join(sorted(allowed))})")
         if kind == "induction":
+            speed = self.get(e, "rated_speed")
             torque = self.get(e, "rated_torque")
             if torque is None:
-                power, speed = self.get(e, "rated_power"), self.get(e, "rated_speed")
-                if power is None or speed is None:
-                    self.f.fail(e.where, "rated_torque", "give rated_torque, or rated_power and rated_speed")
-                torque = power / speed
+                torque = self.need(e, "rated_power") / speed
             f = self.need(e, "supply")
-            pairs = self.get(e, "pole_pairs", 1)
-            if pairs < 1:
-                self.f.fail(e.where, "pole_pairs", f"{pairs}; it must be >= 1")
+            pairs = self._pole_pairs(e, self.get(e, "pole_pairs"), speed, f)
             w0 = 2 * math.pi * f / pairs
             ramp = self.get(e, "ramp", 0.0)
             table = ((0.0, 0.0), (ramp, w0)) if ramp else ()
@@ -809,6 +901,38 @@ class _Builder:
         else:
             table = self.need(e, "torque")
             parts["loads"].append(Load(node, table=tuple((t, -v) for t, v in table)))
+
+    def _pole_pairs(self, e: Entry, pairs, rated_speed, supply: float) -> int:
+        """The motor's pole pairs: as given, checked against the rated speed and the supply
+        when the file gives both (a rated slip in (0, :data:`MAX_RATED_SLIP`]); else inferred
+        from them (:func:`pole_pairs_from_speed`), and a note says so."""
+        if pairs is not None and pairs < 1:
+            self.f.fail(e.where, "pole_pairs", f"{pairs}; it must be >= 1")
+        if rated_speed is None:
+            return pairs
+        rpm = rated_speed * 30 / math.pi
+        if pairs is None:
+            p, slip = pole_pairs_from_speed(rated_speed, supply)
+            if p < 1 or slip > MAX_RATED_SLIP:
+                sync = f"{2 * math.pi * supply / p * 30 / math.pi:.6g} rpm with {p} pole pairs" if p else "none"
+                self.f.fail(e.where, "rated_speed", f"{rpm:.6g} rpm fits no pole count at the supply {supply:.6g} Hz "
+                                                    f"(the synchronous speed just above it: {sync}; rated slip "
+                                                    f"{slip:.1%}, an induction motor's is 0..{MAX_RATED_SLIP:.0%}): "
+                                                    "check rated_speed and supply (the rated speed at that "
+                                                    "frequency), or give pole_pairs")
+            self.notes.append(f"motor {e.name}: pole_pairs = {p}, inferred from rated_speed {rpm:.6g} rpm and "
+                              f"supply {supply:.6g} Hz (synchronous {2 * math.pi * supply / p * 30 / math.pi:.6g} "
+                              f"rpm, rated slip {slip:.2%})")
+            return p
+        sync = 2 * math.pi * supply / pairs
+        slip = 1 - rated_speed / sync
+        if not 0 < slip <= MAX_RATED_SLIP:
+            self.f.fail(e.where, "pole_pairs", f"{pairs} pole pairs at the supply {supply:.6g} Hz turn at "
+                                               f"{sync * 30 / math.pi:.6g} rpm synchronous; the rated_speed "
+                                               f"{rpm:.6g} rpm gives a rated slip of {slip:.1%}, outside "
+                                               f"0..{MAX_RATED_SLIP:.0%} (NEMA design D, the high-slip motors: "
+                                               "up to 13 %): check pole_pairs, rated_speed and supply")
+        return pairs
 
     def _move(self, e: Entry) -> tuple:
         accel = self.get(e, "accel")
@@ -856,10 +980,12 @@ def _out_of_range(value, spec: Key, unit: str) -> str:
     """Why ``value`` is outside its key's range, or ``""``."""
     if not spec.low or not isinstance(value, (int, float)) or isinstance(value, bool):
         return ""
-    bad = value <= 0 if spec.low == ">0" else value < 0
+    bad = {">0": value <= 0, ">=0": value < 0, "!=0": value == 0}[spec.low]
     if not bad:
         return ""
     u = "" if unit in ("", "int") else " " + unit.split("|")[0]
+    if spec.low == "!=0":
+        return f"{value:g}{u} is not allowed; it must not be 0{u} (negative: the pair turns the other way)"
     return f"{value:g}{u} is not allowed; it must be {spec.low[0:-1]} 0{u}"
 
 
@@ -896,6 +1022,9 @@ def _convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
         return tuple(out)
     if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
         raise ValueError(f"must be a quantity text such as '5 {unit.split('|')[0]}', not {raw!r}")
+    if isinstance(raw, str) and unit in ("", "1"):
+        raise ValueError(f"must be a plain number, not the text {raw!r}: write it without quotes "
+                         "(ratios, factors and slips are numbers, docs/drive_files.md)")
     if not isinstance(raw, str) and unit not in ("", "1"):
         if si_numbers:
             value = float(raw)

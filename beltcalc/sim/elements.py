@@ -176,8 +176,11 @@ class Inertia(Element):
 @dataclass(frozen=True)
 class Gear(Element):
     """A rigid gear stage: node ``b`` turns at ``1 / ratio`` of node ``a`` (phi_b = phi_a /
-    ratio; ratio > 0 [-], or [rad/m] from a rotating to a translating node). The two nodes
-    become one coordinate; no stiff spring is needed."""
+    ratio [-], or [rad/m] from a rotating to a translating node; negative: ``b`` turns the
+    other way, as the wheel of an external gear pair does). The two nodes become one
+    coordinate; no stiff spring is needed. The constraint's virtual work gives the torque
+    balance T_b = ratio T_a on the pair, sign included (b's inertia reflects to a as J_b /
+    ratio^2, whatever the sign)."""
 
     a: str
     b: str
@@ -187,7 +190,20 @@ class Gear(Element):
     UNITS: ClassVar[dict] = {"ratio": None}
 
     def check(self, net) -> None:
-        require_positive(f"{self.name or 'gear'} ratio", self.ratio, "")
+        check_gear_ratio(self.name, self.ratio)
+
+
+def check_gear_ratio(name: str, ratio: float) -> float:
+    """A rigid gear's ratio: finite and not 0 (negative reverses); an :class:`InputError`
+    naming ``<name> ratio`` otherwise.
+
+    >>> check_gear_ratio("g", -2.0)
+    -2.0
+    """
+    if not (math.isfinite(ratio) and ratio != 0):
+        raise InputError(f"{ratio:g} is not allowed; a gear ratio must be finite and not 0 (negative: the "
+                         "pair reverses)", param=f"{name or 'gear'} ratio")
+    return ratio
 
 
 # --- couplings -------------------------------------------------------------------------------

@@ -38,7 +38,7 @@ import numpy as np
 
 from beltcalc.errors import FloatRangeError, InputError, require_positive
 from beltcalc.sim.elements import (Coupling, Element, Gear, Inertia, InductionMotor, Load, Points, Prescribed,
-                                   SpeedLoop, Strand, check_points, piece, piecewise)
+                                   SpeedLoop, Strand, check_gear_ratio, check_points, piece, piecewise)
 
 __all__ = ["Coupling", "Event", "Gear", "Inertia", "InductionMotor", "Load", "Network", "Piece", "Prescribed",
            "SpeedLoop", "Strand", "check_points", "piecewise", "series_stiffness"]
@@ -271,7 +271,7 @@ class Network:
                 if end not in index:
                     raise InputError(f"gear {g.name or g.a + '-' + g.b} names an unknown node {end!r}",
                                      param="network")
-            require_positive(f"{g.name or 'gear'} ratio", g.ratio, "")
+            check_gear_ratio(g.name, g.ratio)
             (ra, fa), (rb, fb) = find(index[g.a]), find(index[g.b])
             # phi_a = fa R_a, phi_b = fb R_b, and phi_b = phi_a / ratio
             if ra == rb:

@@ -106,6 +106,7 @@ COMMANDS: dict[str, tuple[str, ...]] = {
                                 "--window", "15s"),
     "roller-table overrun": ("simulate", "roller-table", "--set", "roller_load=-40N*m"),
     "roller-table 20": ROLLER_20,
+    "roller-table 12B-1": ("simulate", "roller-table", "--set", "chain=12B-1"),
     "linear-axis": ("simulate", "linear-axis"),
     "linear-axis rayleigh": ("simulate", "linear-axis", "--substitute-mass-model", "rayleigh"),
     "linear-axis speed-loop": ("simulate", "linear-axis", "--drive", "speed-loop"),
@@ -117,6 +118,12 @@ COMMANDS: dict[str, tuple[str, ...]] = {
                            "--speed", "1500rpm", "--width", "25mm"),
     "belt-drive motor-size": ("belt-drive", "--from-motor-size", "wdu"),
     "chain": ("chain",),
+    "chain 16B 650.4": ("chain", "--chain", "16B-1", "--power", "2kW", "--speed", "300rpm", "--center-distance",
+                        "650.4mm"),
+    "chain 16B 77 links": ("chain", "--chain", "16B-1", "--power", "2kW", "--speed", "300rpm", "--links", "77"),
+    "chain 16B 78 links": ("chain", "--chain", "16B-1", "--power", "2kW", "--speed", "300rpm", "--links", "78"),
+    "chain 40-1 12000": ("chain", "--chain", "40-1", "--power", "0.05kW", "--speed", "12000rpm"),
+    "chain 06B 20000": ("chain", "--power", "0.05kW", "--speed", "20000rpm", "--teeth", "11", "--teeth-large", "60"),
     "chain B": ("chain", "--series", "B", "--power", "5kW", "--speed", "1000rpm", "--teeth", "19",
                 "--teeth-large", "38", "--center-distance", "500mm"),
     "minimal": ("simulate", "drive", "minimal"),
@@ -204,6 +211,11 @@ def dig(d, path: str):
             d = d["value"]                          # a list with one unit
         d = d[int(key)] if isinstance(d, list) else d[key]
     return d
+
+
+def STRAND_SAFETY(d: dict) -> float:
+    """The strand check's value: the chain's breaking-load safety F_B / F of the most loaded strand."""
+    return val(next(c for c in d["checks"] if c["key"] == "strand_strength")["value"])
 
 
 def J(path: str, scale: float = 1.0) -> Callable[[dict], float | str]:
@@ -576,6 +588,23 @@ FIGURES = on("docs/tension.md", [
     F("roller-table", "| motor torque, mean | 4.800 N m |", "4.800", J("motor/torque_mean")),
     F("roller-table", "| motor torque, peak over the run | 8.31 N m |", "8.31", J("motor/torque_peak")),
     F("roller-table", "| start-up time | 1.99 s |", "1.99", J("motor/startup_time")),
+    # the chain's breaking-load safety against `chain`'s rule of 6 (issue 28): the default fails it
+    F("roller-table", "The drive strand's peak, 4196 N when the element lands", "4196",
+      J("strands/drive-sprocket1/force_max")),
+    F("roller-table", "a breaking-load safety of 22.2 kN / 4196 N = 5.29 on the 10B-1", "22.2",
+      J("inputs/chain_breaking_load", 1e-3)),
+    F("roller-table", "a breaking-load safety of 22.2 kN / 4196 N = 5.29 on the 10B-1", "5.29", STRAND_SAFETY),
+    F("roller-table", "`strand breaking-load safety FAILS: 5.291 must be >= 6`", "5.291", STRAND_SAFETY),
+    F("roller-table", "names the breaking load the strand needs (25.18 kN)", "25.18",
+      lambda d: 6 * val(d["strands"]["drive-sprocket1"]["force_max"]) / 1e3),
+    F("roller-table 12B-1", "`--set chain=12B-1` (28.9 kN, 19.05 mm pitch", "28.9",
+      J("inputs/chain_breaking_load", 1e-3)),
+    F("roller-table 12B-1", "19.05 mm pitch: larger sprockets, a peak of 3398 N) passes with 8.50", "19.05",
+      J("inputs/chain_pitch", 1e3)),
+    F("roller-table 12B-1", "19.05 mm pitch: larger sprockets, a peak of 3398 N) passes with 8.50", "3398",
+      J("strands/drive-sprocket1/force_max")),
+    F("roller-table 12B-1", "19.05 mm pitch: larger sprockets, a peak of 3398 N) passes with 8.50", "8.50",
+      STRAND_SAFETY),
     F("roller-table overrun", "the drive strand goes slack for 3.99 s", "3.99", J("strands/drive-sprocket1/slack_time")),
     F("roller-table overrun", "the return strand carries the force (4.3 kN)", "4.3",
       J("strands/sprocket3-drive/force_max", 1e-3)),
@@ -675,6 +704,22 @@ FIGURES = on("docs/tension.md", [
     F("chain", "it picks 140-3 (smallest pitch, then fewest strands), 76 links, a = 1115.9 mm", "76", J("links")),
     F("chain", "it picks 140-3 (smallest pitch, then fewest strands), 76 links, a = 1115.9 mm", "1115.9",
       J("center_distance", MM)),
+    # issue 28: the endless pretension, the chain's plausibility checks, links
+    F("belt-drive endless", "F_v = c2 F_U / 2 = 131.95 N keeps", "131.95", J("pretension")),
+    F("belt-drive endless", "taut up to the design load: 37.70 N at F_U, 0 N at c2 F_U", "37.70", J("slack_side")),
+    F("belt-drive endless", "taut up to the design load: 37.70 N at F_U, 0 N at c2 F_U", "0", J("slack_side_design")),
+    F("chain", "Its C/p = 25.10 is below", "25.10", J("center_pitches")),
+    F("chain", "no. 140's galling speed (929.3 rpm here)", "929.3", J("galling_speed", RPM)),
+    F("chain", "ratio 2, chain wrap 167.7 deg", "167.7", J("wrap_small", 180 / math.pi)),
+    F("chain 16B 650.4", "650.4 mm of 16B on 17/34 teeth needs 77.00 pitches of chain", "77.00", J("links_exact")),
+    F("chain 16B 650.4", "78 links, which moves C to 663.19 mm", "78", J("links")),
+    F("chain 16B 650.4", "78 links, which moves C to 663.19 mm", "663.19", J("center_distance", MM)),
+    F("chain 16B 77 links", "put C at 650.42 mm and rate 16B-1 at 7.01 kW", "650.42", J("center_distance", MM)),
+    F("chain 16B 77 links", "put C at 650.42 mm and rate 16B-1 at 7.01 kW", "7.01", J("rated_power", 1e-3)),
+    F("chain 16B 78 links", "7.01 kW instead of 10.79 kW", "10.79", J("rated_power", 1e-3)),
+    F("chain 40-1 12000", "(43 m/s; galling speed 7647 rpm on 17", "43", J("chain_speed")),
+    F("chain 40-1 12000", "(43 m/s; galling speed 7647 rpm on 17", "7647", J("galling_speed", RPM)),
+    F("chain 06B 20000", "lubrication data, galling speed 16249 rpm)", "16249", J("galling_speed", RPM)),
     F("chain B", "08B-3 is chosen (11.5 kW rated, 85 %)", "11.5", J("rated_power", 1e-3)),
     F("chain B", "08B-3 is chosen (11.5 kW rated, 85 %)", "08B-3", J("chain")),
     F("chain B", "08B-3 is chosen (11.5 kW rated, 85 %)", "85", J("utilisation", 100)),

@@ -53,13 +53,10 @@ RPM = math.pi / 30.0                   # rad/s per rev/min
 # Multiple-strand factors K2, Shigley Table 17-23 [1]
 STRAND_FACTORS = {1: 1.0, 2: 1.7, 3: 2.5, 4: 3.3, 5: 3.9, 6: 4.6, 8: 6.0}
 LUBRICATION = {"A": "manual or drip", "B": "oil bath or slinger disc", "C": "oil stream (pump)"}   # [5]
-# Plausibility of the drive (issue 28): the makers' rules, each a check with its source.
+# Plausibility of the drive (issue 28): the makers' rules, each a rule of RULES with its source; the
+# small sprocket's limit is data of the drive (its lubrication type), the others are fixed.
 MIN_TEETH_BY_LUBRICATION = {"A": 12, "B": 17, "C": 25}   # small sprocket, by the drive's lubrication type [7]
 MIN_TEETH = 17                         # small sprocket where the lubrication type is not known [6]
-MAX_TEETH_LARGE = 120                  # [6]
-MAX_SPEED_RATIO = 7.0                  # z2 / z1 of one reduction [8]
-MIN_WRAP = 2.0 * math.pi / 3.0         # rad, 120 deg of chain wrap on the small sprocket [7]
-CENTER_PITCHES_RANGE = (30.0, 80.0)    # C / p [9]
 OFFSET_LINK_FACTOR = 0.65              # rating of a chain with a one-pitch offset link (odd link count) [10]
 
 
@@ -386,37 +383,24 @@ def chain_checks(c: ChainCandidate, required: float, inp: ChainInputs | None = N
     if inp is None or g is None:
         return checks
     z1, z2 = inp.teeth_small, inp.teeth_large
-    checks.append(Check("galling", f"{name} speed vs galling", inp.speed, c.galling_speed, "rad/s",
-                        rule="n_1 <= 1000 [82.5 / (7.95^p 1.0278^N_1 1.323^(F/1000))]^(1/(1.59 log p + 1.873)) rpm, "
-                             "p in, F = (K_s F_pull + q v^2) per strand in lbf (Shigley 9th ed. 17-5: galling "
-                             "between pin and bushing)", unverified=galls))
+    checks.append(RULES["chain_galling"].check(
+        inp.speed, c.galling_speed, key="galling", name=f"{name} speed vs galling", unverified=galls,
+        detail="F = (K_s F_pull + q v^2) per strand"))
     if lube is None:
-        checks.append(Check("lubrication", f"{name} lubrication", c.chain_speed, None, "m/s",
-                            rule="lubrication type by chain speed (McGuire Bearing's table, chains 40-160)",
-                            unverified=f"the catalog has no lubrication limits for {name}: at "
-                                       f"{c.chain_speed:.4g} m/s the lubrication it needs is not known; ask the "
-                                       "chain maker"))
+        checks.append(RULES["chain_lubrication"].check(
+            c.chain_speed, None, key="lubrication", name=f"{name} lubrication",
+            unverified=f"the catalog has no lubrication limits for {name}: at {c.chain_speed:.4g} m/s the "
+                       "lubrication it needs is not known; ask the chain maker"))
     min_teeth = MIN_TEETH_BY_LUBRICATION[lube] if lube is not None else MIN_TEETH
-    teeth_rule = (f"z_1 >= {min_teeth} with Type {lube} lubrication; 12 / 17 / 25 teeth for drip, oil bath, pumped "
-                  "lubrication (Diamond Chain FAQ, smallest sprocket for chordal action)" if lube is not None
-                  else f"z_1 >= {MIN_TEETH} for moderate and high speeds (Shigley 9th ed. 17-5; the lubrication "
-                       "type is not known)")
     c_p = g.center_distance / c.chain.pitch
-    low, high = CENTER_PITCHES_RANGE
+    short = c_p < (RULES["chain_center_min"].limit + RULES["chain_center_max"].limit) / 2
     checks += [
-        Check("teeth_small", "small sprocket teeth", float(z1), float(min_teeth), "1", kind="min", rule=teeth_rule),
-        Check("teeth_large", "large sprocket teeth", float(z2), float(MAX_TEETH_LARGE), "1",
-              rule=f"z_2 <= {MAX_TEETH_LARGE} (Shigley 9th ed. 17-5: no standard sprockets above; the worn chain "
-                   "rides high)"),
-        Check("ratio", "speed ratio", z2 / z1, MAX_SPEED_RATIO, "1",
-              rule=f"z_2 / z_1 <= {MAX_SPEED_RATIO:g} for one reduction (chain makers' FAQ; Shigley 17-5: the most "
-                   "successful drives up to 6:1); above it two reductions"),
-        Check("wrap", "chain wrap, small sprocket", g.wrap_small, MIN_WRAP, "rad", kind="min",
-              rule="theta_1 >= 120 deg (Diamond Chain FAQ, minimum chain wrap; 90 deg only with close tension "
-                   "control)"),
-        Check("center_pitches", "centre distance in pitches", c_p, low if c_p < (low + high) / 2 else high, "1",
-              kind="min" if c_p < (low + high) / 2 else "max",
-              rule=f"{low:g} <= C / p <= {high:g} (HKK Chain: 30-50 pitches optimum; 80 the longest the common "
-                   "rules allow)"),
+        RULES["sprocket_teeth"].check(float(z1), float(min_teeth), key="teeth_small",
+                                      detail=f"z_1 >= {min_teeth}: Type {lube} lubrication" if lube is not None
+                                      else f"z_1 >= {MIN_TEETH}: the lubrication type is not known"),
+        RULES["sprocket_teeth_large"].check(float(z2), key="teeth_large"),
+        RULES["chain_ratio"].check(z2 / z1, key="ratio", detail="above it two reductions"),
+        RULES["chain_wrap"].check(g.wrap_small, key="wrap", detail="120 deg"),
+        RULES["chain_center_min" if short else "chain_center_max"].check(c_p, key="center_pitches"),
     ]
     return checks

@@ -218,6 +218,32 @@ RULES: Mapping[str, Rule] = {r.key: r for r in (
          "Diamond Chain, technical engineering guide: the load in service at most 1/6 of the minimum ultimate "
          "tensile strength F_B (ISO 606 / ASME B29.1 minimum)",
          met_by=("chain", "simulate roller-table", "simulate drive")),
+    Rule("chain_galling", "chain speed vs galling", None, "rad/s", "max", "n_1",
+         "Shigley 9th ed. 17-5: the speed is limited by galling between pin and bushing, n_1 <= 1000 [82.5 / "
+         "(7.95^p 1.0278^N_1 1.323^(F/1000))]^(1/(1.59 log p + 1.873)) rpm, p in, F lbf; beyond it the check and "
+         "the rating are unverified (Table 17-20's Type C' region: submit the design to the maker)",
+         limit_name="the galling speed", met_by=("chain",)),
+    Rule("chain_lubrication", "chain lubrication", None, "m/s", "max", "v",
+         "McGuire Bearing, 'Better chain performance': Type A / B / C by chain speed for chains 40-160; a chain "
+         "without a row is unverified", limit_name="the lubrication table's speeds (a row for the chain)",
+         met_by=("chain",)),
+    Rule("sprocket_teeth", "small sprocket teeth", None, "1", "min", "z_1",
+         "Diamond Chain FAQ, smallest sprocket for chordal action: 12 / 17 / 25 teeth with drip / oil bath / pumped "
+         "lubrication; Shigley 9th ed. 17-5: at least 17 for moderate and high speeds (the type not known)",
+         limit_name="12 / 17 / 25 by lubrication type A / B / C (17 where not known)", met_by=("chain",)),
+    Rule("sprocket_teeth_large", "large sprocket teeth", 120.0, "1", "max", "z_2",
+         "Shigley 9th ed. 17-5: no standard sprockets over 120 teeth (a worn chain rides high)", met_by=("chain",)),
+    Rule("chain_ratio", "speed ratio", 7.0, "1", "max", "z_2 / z_1",
+         "the chain makers' FAQ on the largest single reduction, 7:1 (Diamond Chain's wording, as reproduced at "
+         "experts123.com); Shigley 17-5: the most successful drives up to 6:1", met_by=("chain",)),
+    Rule("chain_wrap", "chain wrap, small sprocket", 2.0 * math.pi / 3.0, "rad", "min", "theta_1",
+         "Diamond Chain FAQ, minimum chain wrap: 120 deg on the smallest sprocket (90 deg only with close tension "
+         "control)", met_by=("chain",)),
+    Rule("chain_center_min", "centre distance in pitches", 30.0, "1", "min", "C / p",
+         "HKK Chain, engineering information 'Installation': 30 to 50 pitches optimum", met_by=("chain",)),
+    Rule("chain_center_max", "centre distance in pitches", 80.0, "1", "max", "C / p",
+         "the longest centre distance the common rules allow, 80 pitches (e.g. PTC Asia, 'The center distance and "
+         "chain length': a = (30-50) p, a_max <= 80 p)", met_by=("chain",)),
     # timing belts
     Rule("belt_tooth_shear", "tooth shear", None, "N", "max", "F_U c2",
          "BRECO F_tspec(n) tables; Wojtkowiak et al. 2021 sec. 3.2; c2: Tsubaki Tables 1-4",

@@ -420,3 +420,24 @@ def test_errors_name_options_of_the_command(args):
     assert res.exit_code in (1, 2), res.output
     named = set(re.findall(r"(?<![\w-])(--[a-z][a-z0-9]*(?:-[a-z0-9]+)*)", res.stderr))
     assert named and named <= command_options()[args[0]], res.stderr
+
+
+def test_installed_script_unverified_under_strict(tmp_path):
+    """The console script itself: an unverified check alone ends --strict with exit 1 and no file."""
+    import shutil
+    import subprocess
+
+    exe = shutil.which("beltcalc")
+    assert exe, "the beltcalc console script is not installed"
+    target = tmp_path / "c.csv"
+    proc = subprocess.run([exe, "chain", "--chain", "40-1", "--power", "0.05kW", "--speed", "9000rpm",
+                           "--teeth", "25", "--center-pitches", "40", "--strict", "--csv", str(target)],
+                          capture_output=True, text=True, timeout=60)
+    # 25 teeth (Type C lubrication's minimum), C/p = 40, safety 10: only the galling speed is left, unverified
+    assert proc.returncode == 1 and proc.stdout == ""
+    lines = proc.stderr.splitlines()
+    assert [ln.split(" UNVERIFIED")[0] for ln in lines[:-1]] == ["warning: 40-1 power rating",
+                                                                 "warning: 40-1 speed vs galling"]
+    assert lines[-1] == ("Error: --strict: 2 checks cannot be verified (40-1 power rating, 40-1 speed vs galling); "
+                         "see the warnings")
+    assert list(tmp_path.iterdir()) == []

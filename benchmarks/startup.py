@@ -60,7 +60,7 @@ COMMANDS = [["--help"], ["simulate", "sewing", "--help"], ["simulate", "roller-t
 CHILD = r'''
 import json, sys, time
 import numpy as np
-from beltcalc.sim import core
+from beltcalc.sim import core, propagate
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.scenes import SCENES
 scene = SCENES["sewing"]; values = dict(scene.values())
@@ -76,14 +76,14 @@ if sys.argv[1] == "propagation":
     out["exact_warm"] = min(timed(lambda: core._exact(net, t, x0, cfg)) for _ in range(20))
 elif sys.argv[1] == "expm":
     from beltcalc.sim.linalg import expm
-    F = core.augmented_matrix(net) * (t[1] - t[0])
+    F = propagate.augmented_matrix(net) * (t[1] - t[0])
     out["expm"] = timed(lambda: expm(F))
     out["expm_warm"] = min(timed(lambda: expm(F)) for _ in range(20))
 elif sys.argv[1] == "touch":     # a new array of the result's size, written once (the system's pages)
     out["touch"] = timed(lambda: np.empty((14, samples)).fill(1.0))
     out["touch_warm"] = min(timed(lambda: np.empty((14, samples)).fill(1.0)) for _ in range(20))
 elif sys.argv[1] == "solve":     # numpy's first LAPACK call (14 x 14, as in expm)
-    A = core.augmented_matrix(net)
+    A = propagate.augmented_matrix(net)
     out["solve"] = timed(lambda: np.linalg.solve(A + 1e3 * np.eye(14), A))
     out["solve_warm"] = min(timed(lambda: np.linalg.solve(A + 1e3 * np.eye(14), A)) for _ in range(20))
 else:

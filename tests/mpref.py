@@ -1,7 +1,7 @@
 """High-precision reference solutions for the error-estimate tests (mpmath, pure Python).
 
 For a smooth linear network (no strands, no time break points) the augmented system
-z' = F z, z = [x, g], F = :func:`beltcalc.sim.core.augmented_matrix`, has the exact one-step
+z' = F z, z = [x, g], F = :func:`beltcalc.sim.propagate.augmented_matrix`, has the exact one-step
 map P = exp(F dt). Here F is converted to mpmath exactly (every float is a dyadic rational),
 P = mpmath.expm(F dt) with dt = mpf(t_end) / (samples - 1), z0 = [x0, g(0)], and
 z_{k+1} = P z_k, all at ``digits`` decimal digits. Nothing of beltcalc's propagation
@@ -17,7 +17,7 @@ from __future__ import annotations
 import mpmath
 import numpy as np
 
-from beltcalc.sim.core import augmented_matrix
+from beltcalc.sim.propagate import augmented_matrix
 
 
 def _check(network) -> None:

@@ -9,7 +9,8 @@ import pytest
 from numpy.testing import assert_allclose
 
 from beltcalc.sim import batch
-from beltcalc.sim.core import SolverConfig, _propagate, augmented_matrix, conditioning, simulate
+from beltcalc.sim.core import SolverConfig, conditioning, simulate
+from beltcalc.sim.propagate import augmented_matrix, propagate
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.base import run_scene
 from beltcalc.sim.scenes.sewing import build
@@ -83,7 +84,7 @@ def test_propagation_is_the_cores():
         prop = batch.Propagation(F, z0, 1e-4, 1001, parts)
         got = prop.rows(range(11), 3)                           # from block 3 on (b = 32)
         for j in range(2):
-            want = _propagate(F[j], z0[j], 1e-4, 1001, parts, np.arange(11))
+            want = propagate(F[j], z0[j], 1e-4, 1001, parts, np.arange(11))
             # the same scheme on a stack of matrices, which a BLAS kernel may sum in another
             # order: to twice the propagation's stated rounding floor, eps ||F~|| t_end of the
             # scale (core.conditioning: 1.4e-11 over these 0.1 s)

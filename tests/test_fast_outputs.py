@@ -43,7 +43,7 @@ from beltcalc.sim.elements import Coupling, Prescribed
 from beltcalc.sim.network import (Gear, Inertia, Load, Network, Prescribed as Pres, SpeedLoop, Strand)
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.linalg import balance
-from beltcalc.sim.switching import _orbit
+from beltcalc.sim import propagate as prop
 
 EPS = float(np.finfo(float).eps)
 DRIVES = sorted(p.stem for p in (Path(__file__).parent.parent / "catalogs" / "drives").glob("*.toml"))
@@ -176,10 +176,10 @@ def _old_propagate(F, z0, dt, samples, parts=1):
     Ft = F / scale[:, None] * scale[None, :]
     step = np.linalg.matrix_power(core.expm(Ft * (dt / parts)), parts)   # the scheme is tested, not expm
     b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
-    powers = core._orbit_matrix(step, b)
+    powers = prop.matrix_orbit(step, b)
     jump = step @ powers[b - 1]
     nblocks = -(-samples // b)
-    starts = _orbit(jump, z0 / scale, nblocks)
+    starts = prop.orbit(jump, z0 / scale, nblocks)
     q = powers.transpose(2, 0, 1).reshape(m, b * m)
     z = (starts @ q).reshape(nblocks * b, m)
     return z[:samples].T * scale[:, None]
@@ -352,24 +352,24 @@ def test_a_run_of_one_linear_piece_takes_the_shortcut(monkeypatch):
 @pytest.mark.parametrize("samples, parts", [(10001, 1), (10001, 3), (10000, 1), (2, 1), (17, 3), (9, 1)])
 def test_propagation_into_one_array_equals_the_old_one(samples, parts):
     net, t_end, _ = _scene("sewing")
-    F = core.augmented_matrix(net)
+    F = prop.augmented_matrix(net)
     z0 = np.concatenate([net.initial_state(), net.generators(0.0)])
     dt = t_end / (samples - 1)
     old = _old_propagate(F, z0, dt, samples, parts)
-    new = core._propagate(F, z0, dt, samples, parts)
+    new = prop.propagate(F, z0, dt, samples, parts)
     assert new.shape == old.shape and new.flags.c_contiguous
     # the same scheme, its products grouped otherwise: to twice the propagation's stated rounding
     # floor, eps ||F~|| t_end of each row's scale (core.conditioning: 1.4e-10 here; the error
     # estimate adds the same floor to every exact run)
     floor = 2 * core.conditioning(net, t_end)
     _close(new, old, floor)
-    some = core._propagate(F, z0, dt, samples, parts, rows=np.arange(5, 10))
+    some = prop.propagate(F, z0, dt, samples, parts, rows=np.arange(5, 10))
     _close(some, new[5:10], floor)
 
 
 def test_the_error_estimates_reference_is_the_other_partition_at_its_samples():
     # a run of one linear piece compares its speeds with the other partition (expm(F~ dt/3)^3)
-    # at every (b+1)-th sample and the last (core.reference_rows): those samples are what a
+    # at every (b+1)-th sample and the last (propagate.reference_rows): those samples are what a
     # whole second propagation gives there, and the estimate is the largest difference over
     # them plus the conditioning floor
     net, t_end, samples = _scene("sewing")
@@ -377,8 +377,8 @@ def test_the_error_estimates_reference_is_the_other_partition_at_its_samples():
     x0 = net.initial_state()
     n = net.n
     full = core._exact(net, t, x0, SolverConfig("exact"), scale=0.7)[0]
-    F, scale = core.one_piece(net)
-    idx, ref = core.reference_rows(F, np.concatenate([x0, net.generators(0.0)]), t[1] - t[0], samples,
+    F, scale = prop.one_piece(net)
+    idx, ref = prop.reference_rows(F, np.concatenate([x0, net.generators(0.0)]), t[1] - t[0], samples,
                                    range(n, 2 * n), scale)
     b = math.ceil(math.sqrt(samples))
     assert idx[-1] == samples - 1 and np.all(np.diff(idx)[:-1] == b + 1)

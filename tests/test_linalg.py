@@ -40,7 +40,7 @@ def _random(rng, n: int, norm: float) -> np.ndarray:
 
 
 def _project_matrices() -> dict[str, np.ndarray]:
-    from beltcalc.sim.core import augmented_matrix
+    from beltcalc.sim.propagate import augmented_matrix
     from beltcalc.sim.scenes import SCENES
     from beltcalc.sim.scenes.drive import drive_scene
     out = {}
@@ -170,7 +170,7 @@ def test_inverse_property(A):
 # --- balance: LAPACK dgebal (job 'S') ------------------------------------------------------------
 
 def _project_matrices():
-    from beltcalc.sim.core import augmented_matrix
+    from beltcalc.sim.propagate import augmented_matrix
     from beltcalc.sim.scenes import SCENES
     from beltcalc.sim.scenes.drive import drive_scene
 

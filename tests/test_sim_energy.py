@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from beltcalc.sim.core import SolverConfig, augmented_matrix, simulate
+from beltcalc.sim.core import SolverConfig, simulate
+from beltcalc.sim.propagate import augmented_matrix
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.sewing import build
 

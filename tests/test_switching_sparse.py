@@ -13,7 +13,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from beltcalc.sim import switching
-from beltcalc.sim.core import augmented_matrix
+from beltcalc.sim.propagate import augmented_matrix, orbit
 from beltcalc.sim.network import Inertia, Load, Network, Strand
 from beltcalc.sim.scenes import roller_table
 from test_switching_reference import bounce_sequence, bouncing_net, params
@@ -100,7 +100,7 @@ def test_dense_reach_bound_never_misses_a_step_the_exact_polynomial_flags():
     checked = 0
     for mode in list(r.cache.modes.values()):
         P = mode.P(mode.K)
-        Z = np.vstack([switching._orbit(P, z, 2 * switching.NEAR_GROUP) for z in z_all[::7]])
+        Z = np.vstack([orbit(P, z, 2 * switching.NEAR_GROUP) for z in z_all[::7]])
         tol = switching.ROUND * (mode.absH @ np.abs(Z).T) + 1e-300
         C = mode.coeffs(Z)
         reach = np.abs(C[1:]).sum(axis=0)

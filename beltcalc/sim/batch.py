@@ -4,7 +4,7 @@ A study (:mod:`beltcalc.sim.study`) runs one scene many times with some values c
 every run of a chunk is one linear time-invariant network over the whole run (no strands, no
 time break points, no nonlinear element) with the same states, generators and time grid,
 each run ``r`` is ``z_r' = F_r z_r`` with ``z = [x, g]`` (the state and the input
-generators, :func:`beltcalc.sim.core.augmented_matrix`), and what its summary row needs is a
+generators, :func:`beltcalc.sim.propagate.augmented_matrix`), and what its summary row needs is a
 few signals ``y_ri(t_k) = c_ri^T z_r(t_k)`` that are linear in ``z``: speeds, accelerations
 (``c^T F``), coupling torques, a motor's torque. They are computed for the chunk at once:
 
@@ -13,13 +13,13 @@ few signals ``y_ri(t_k) = c_ri^T z_r(t_k)`` that are linear in ``z``: speeds, ac
 - with ``b = ceil(sqrt(N))`` for ``N`` samples, the rows ``w_{r,i,j} = c~_ri^T S_r^j``
   (``j < b``) by doubling and the block starts ``S_r^{kb} z~_r(0)`` by doubling: then
   ``y_ri(t_{kb + j}) = (S_r^{kb} z~_r(0)) . w_{r,i,j}``, one batched matrix product per pass
-  (the block scheme of :func:`beltcalc.sim.core._propagate`, reading off only the signals
+  (the block scheme of :func:`beltcalc.sim.propagate.propagate`, reading off only the signals
   asked for instead of every state);
 - reduced at once to what the row reports: min, max and trapezoid mean over each run's steady
   window, the peak of each speed over the run, and the error estimate of
   :func:`beltcalc.sim.core.estimate_error` (the speeds at every (b+1)-th sample and the last
   again with ``expm(F~ dt / 3)^3``, the other internal partition:
-  :func:`beltcalc.sim.core.reference_rows`, plus the conditioning floor ``eps ||F~||_1 t_end``).
+  :func:`beltcalc.sim.propagate.reference_rows`, plus the conditioning floor ``eps ||F~||_1 t_end``).
 
 No time series is kept: a pass holds at most :data:`PASS_BYTES` of samples, so memory does not
 grow with the chunk or the number of runs.
@@ -48,6 +48,9 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
+from beltcalc.sim.linalg import balance
+from beltcalc.sim.propagate import augmented_matrix, balanced_step, block_length, matrix_orbit, orbit, reference_rows
+
 PASS_BYTES = 16 * 2 ** 20   # samples held by one pass of the batch (runs x samples x signals x 8 bytes)
 MARGIN = 1e-6               # a check whose utilisation is above 1 - MARGIN goes through the single run
 VERIFY_RTOL = 1e-9          # the chunk's check run: the batch's row against the single run's
@@ -55,32 +58,9 @@ VERIFY_RTOL = 1e-9          # the chunk's check run: the batch's row against the
 
 # --- the engine ----------------------------------------------------------------------------------
 
-def _balance(F: np.ndarray) -> np.ndarray:
-    """(runs, size) diagonal scalings of powers of two, each run's own
-    (:func:`beltcalc.sim.linalg.balance`, as its single run balances it)."""
-    from beltcalc.sim.linalg import balance
-
-    return balance(F)
-
-
-def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
-    """[I, step, ..., step^(count-1)] of every run, (runs, count, m, m): the doubling of
-    :func:`beltcalc.sim.core._orbit_matrix`, the same products run by run."""
-    R, m, _ = step.shape
-    out = np.empty((R, count, m, m))
-    out[:, 0] = np.eye(m)
-    filled, power = 1, step
-    while filled < count:
-        n = min(filled, count - filled)
-        out[:, filled:filled + n] = power[:, None] @ out[:, :n]
-        filled += n
-        power = power @ power
-    return out
-
-
 class Propagation:
     r"""The exact solution of a stack of runs ``z_r' = F_r z_r`` at ``samples`` points ``k dt``,
-    as :func:`beltcalc.sim.core._propagate` computes it for one run, with the same operations
+    as :func:`beltcalc.sim.propagate.propagate` computes it for one run, with the same operations
     in the same order (so the same numbers): ``F~ = D^{-1} F D`` balanced, ``S = expm(F~ dt /
     parts)^parts`` (:func:`beltcalc.sim.linalg.expm` on the whole stack), the powers ``S^j`` (``j <
     b = ceil(sqrt(samples))``) and the block starts ``S^{kb} z~(0)`` by doubling; then
@@ -90,22 +70,20 @@ class Propagation:
     Notes
     -----
     Moler & Van Loan, SIAM Review 45 (2003) 3-49, sections 3 and 10 (scaling and squaring, the
-    augmented system of the inputs); the block scheme is :func:`beltcalc.sim.core._propagate`'s.
+    augmented system of the inputs); the block scheme is :func:`beltcalc.sim.propagate.propagate`'s.
     """
 
     def __init__(self, F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1,
                  scale: np.ndarray | None = None, step: np.ndarray | None = None):
-        from beltcalc.sim.core import _block, balanced_step, orbit_stack
-
-        self.scale = _balance(F) if scale is None else scale
+        self.scale = balance(F) if scale is None else scale
         s = self.scale
         if step is None:
             step = balanced_step(F, s, dt, parts)
-        self.b = b = _block(samples)
-        self.powers = _orbit_matrix(step, b)
+        self.b = b = block_length(samples)
+        self.powers = matrix_orbit(step, b)
         jump = step @ self.powers[:, b - 1]
         self.full, self.tail = divmod(samples, b)
-        self.starts = orbit_stack(jump, z0 / s, self.full + (self.tail > 0))
+        self.starts = orbit(jump, z0 / s, self.full + (self.tail > 0))
         self.samples = samples
 
     def rows(self, rows: Sequence[int], block0: int = 0, block1: int | None = None) -> np.ndarray:
@@ -137,7 +115,7 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     ``T_<coupling>``, ``C (g . phi) + d (g . omega)``
     (:meth:`beltcalc.sim.elements.Coupling.outputs_of`); and the run's error estimate as
     :func:`beltcalc.sim.core.estimate_error` forms it (the speeds against
-    :func:`beltcalc.sim.core.reference_rows`, plus the conditioning floor), relative to the
+    :func:`beltcalc.sim.propagate.reference_rows`, plus the conditioning floor), relative to the
     speeds' peaks over the window and the reference's samples before it: a lower bound of the
     single run's scale (its peaks over every sample), so the batch's estimate is at least the
     single run's, and no speed is formed before the window.
@@ -147,7 +125,6 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     relative error estimate (None without ``estimate``). A pass holds at most
     :data:`PASS_BYTES` of states. A name of another kind raises KeyError.
     """
-    from beltcalc.sim.core import augmented_matrix, balanced_step, reference_rows
     from beltcalc.sim.switching import EPS
 
     R = len(nets)
@@ -176,7 +153,7 @@ def exact_windows(nets: Sequence, t: np.ndarray, first: Sequence[int], names: Se
     step = max(1, int(PASS_BYTES // (8 * N * (m + len(names) + (2 * n if estimate else 0)))))
     # the chunk's balancings, steps, initial states and error references: one stacked call each
     F_all = np.stack([augmented_matrix(net) for net in nets])
-    scale_all = _balance(F_all)
+    scale_all = balance(F_all)
     step_all = balanced_step(F_all, scale_all, dt)
     z0_all = np.stack([np.concatenate([net.initial_state(), net.generators(0.0)]) for net in nets])
     if estimate:
@@ -286,7 +263,7 @@ def steady_stats(nets: Sequence, names: Sequence[str]) -> tuple[np.ndarray, np.n
         return np.zeros((0, q)), np.zeros((0, q)), np.ones(0, dtype=bool)
     AB = [net.first_order(None, 1.0) for net in nets]
     A = np.stack([A for A, _ in AB])
-    mean_x, ok = fr.mean_states(A, np.stack([B[:, 0] for _, B in AB]), _balance(A))
+    mean_x, ok = fr.mean_states(A, np.stack([B[:, 0] for _, B in AB]), balance(A))
     net0 = nets[0]
     states, eye = [s for s, _ in net0.state_names()], np.eye(net0.size)
     # the output rows (runs, names, size) and powers of j w: a state's and an acceleration's

@@ -40,7 +40,8 @@ from beltcalc.errors import InputError, SimulationError, require_positive
 from beltcalc.sim.linalg import balance, expm
 from beltcalc.sim.network import Network
 from beltcalc.sim.result import SimResult
-from beltcalc.sim.switching import EPS, _orbit, piecewise_exact, slack_times
+from beltcalc.sim.propagate import augmented_matrix, one_piece, propagate, reference_rows
+from beltcalc.sim.switching import EPS, piecewise_exact, slack_times
 
 
 @dataclass(frozen=True)
@@ -116,147 +117,6 @@ def _initial(network: Network, x0: np.ndarray | None) -> np.ndarray:
     return x
 
 
-def _augment(network: Network, A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    m, p = A.shape[0], B.shape[1]
-    F = np.zeros((m + p, m + p))
-    F[:m, :m] = A
-    F[:m, m:] = B
-    F[m:, m:] = network.generator_matrix()
-    return F
-
-
-def augmented_matrix(network: Network, taut=None, t_mid: float = 0.0) -> np.ndarray:
-    """F of z' = F z with z = [x, g]: the network (strand mode ``taut``, time piece holding
-    ``t_mid``) and its input generators."""
-    return _augment(network, *network.first_order(taut, t_mid))
-
-
-def one_piece(network: Network) -> tuple[np.ndarray, np.ndarray]:
-    """(F, scale): the augmented matrix of the network's one linear piece (every strand taut,
-    the first time piece) and its balancing (:func:`beltcalc.sim.linalg.balance`), kept
-    on the network: a run, its error estimate and its conditioning read them once."""
-    hit = network.__dict__.get("_one_piece")
-    if hit is None:
-        F = augmented_matrix(network)
-        hit = network.__dict__["_one_piece"] = (F, balance(F))
-    return hit
-
-
-def balanced_step(F: np.ndarray, scale: np.ndarray, dt: float, parts: int = 1) -> np.ndarray:
-    """``expm(F~ dt / parts)^parts`` with ``F~ = D^-1 F D`` balanced (``D = diag(scale)``): the
-    one-sample step of a one-piece run (``parts`` > 1: another partition of it), for one
-    matrix (m, m) or a stack (R, m, m) with its scales (R, m)."""
-    Ft = F / scale[..., :, None] * scale[..., None, :]
-    return np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)
-
-
-def _propagate(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, parts: int = 1,
-               rows=None, out: np.ndarray | None = None, scale: np.ndarray | None = None) -> np.ndarray:
-    """z at t_k = k dt, k < samples, as columns (only ``rows`` of z, default all). F is
-    balanced first (a diagonal similarity of powers of two: exact). With S = expm(F~ dt) (or
-    expm(F~ dt / parts)^parts, another partition and scaling of A h for the error estimate)
-    and b ~ sqrt(samples): the powers S^r (r < b) and the block starts S^(k b) z0 are built
-    by doubling; then z[i, k b + r] = sum_j S^r[i, j] (S^(k b) z0)[j], written straight into
-    the one result array, row i by row i (a product per row whose result is already that
-    row's samples in time order), with the balancing scale folded into the powers. No
-    temporary as large as the result: a cold process touches only the result's own pages.
-    ``out``: the (rows, samples) array to fill (e.g. rows of a larger array); ``scale``: F's
-    balancing where the caller has it."""
-    m = F.shape[0]
-    rows = np.arange(m) if rows is None else np.asarray(rows)
-    scale = balance(F) if scale is None else scale
-    step = balanced_step(F, scale, dt, parts)
-    b = _block(samples)
-    powers = _orbit_matrix(step, b)
-    jump = step @ powers[b - 1]                      # S^b
-    full, tail = divmod(samples, b)
-    starts = _orbit(jump, z0 / scale, full + (tail > 0))    # (blocks, m), balanced coordinates
-    # per wanted row i: the (m, b) matrix P_i[j, r] = scale_i S^r[i, j] (exact: powers of two)
-    P = np.ascontiguousarray((powers[:, rows, :] * scale[rows][None, :, None]).transpose(1, 2, 0))
-    out = np.empty((rows.size, samples)) if out is None else out
-    if full:
-        # out[i, k b + r] = starts[k] . P_i[:, r]: one batched product into the result
-        blocks = out[:, :full * b].reshape(rows.size, full, b)     # a view (the last axis split)
-        np.matmul(starts[None, :full], P, out=blocks)
-        if not np.shares_memory(blocks, out):
-            out[:, :full * b] = blocks.reshape(rows.size, full * b)
-    if tail:
-        out[:, full * b:] = starts[full] @ P[:, :, :tail]
-    return out
-
-
-def _orbit_matrix(step: np.ndarray, count: int) -> np.ndarray:
-    """[I, step, step^2, ..., step^(count-1)] by doubling."""
-    m = step.shape[0]
-    out = np.empty((count, m, m))
-    out[0] = np.eye(m)
-    filled, power = 1, step
-    while filled < count:
-        n = min(filled, count - filled)
-        out[filled:filled + n] = power @ out[:n]
-        filled += n
-        power = power @ power
-    return out
-
-
-def _block(samples: int) -> int:
-    """The block length b ~ sqrt(samples) of :func:`_propagate`."""
-    return max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
-
-
-def orbit_stack(step: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
-    """[start, step start, step^2 start, ...] of every matrix of a stack, (R, count, m) from
-    step (R, m, m) and start (R, m): :func:`beltcalc.sim.switching._orbit`'s doubling, the
-    same products stack entry by stack entry."""
-    R, m = start.shape
-    out = np.empty((R, count, m))
-    out[:, 0] = start
-    filled, power = 1, step
-    while filled < count:
-        k = min(filled, count - filled)
-        out[:, filled:filled + k] = out[:, :k] @ power.transpose(0, 2, 1)
-        filled += k
-        if filled < count:
-            power = power @ power
-    return out
-
-
-def reference_rows(F: np.ndarray, z0: np.ndarray, dt: float, samples: int, rows,
-                   scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The error estimate's second computation of a run that is one linear piece: ``rows`` of
-    ``z`` at every s-th sample (``s = b + 1``, coprime to :func:`_propagate`'s block length
-    ``b``, so the samples fall at every offset within a block) and at the last, by another
-    partition of the step and another chain of products: ``S' = expm(F~ dt / 3)^3``, the stride
-    step ``S'^s`` by binary powering, its orbit by doubling, the last sample's remainder by
-    binary powering. Returns ``(idx, ref)``: the sample indices and ``ref[..., i, j]``, row
-    ``rows[i]`` at sample ``idx[j]``.
-
-    Why a subset of the samples suffices: the run's own error is the rounding of ``S`` and of
-    its powers carried along the orbit, a smooth function of the sample index (per block
-    start and per offset within a block), which samples at every offset and every block
-    follow; each sample's last dot product adds a rounding that the conditioning term of
-    :func:`estimate_error` bounds. ~sqrt(samples) samples instead of all: the estimate costs
-    one ``expm`` and a few products instead of a second whole propagation.
-
-    ``F`` (m, m) and ``z0`` (m,), or stacks (R, m, m) and (R, m) (one call for a study's
-    chunk, :mod:`beltcalc.sim.batch`; ``ref`` then (R, len(rows), len(idx))). ``scale``: the
-    balancing of ``F`` where the caller has it."""
-    single = F.ndim == 2
-    F3, z3 = (F[None], z0[None]) if single else (F, z0)
-    scale = (balance(F3) if scale is None else scale).reshape(F3.shape[:2])
-    step = balanced_step(F3, scale, dt, 3)
-    stride = min(_block(samples) + 1, samples - 1)
-    idx = np.arange(0, samples, stride)
-    z = orbit_stack(np.linalg.matrix_power(step, stride), z3 / scale, idx.size)
-    if idx[-1] != samples - 1:
-        last = np.linalg.matrix_power(step, samples - 1 - int(idx[-1])) @ z[:, -1, :, None]
-        z = np.concatenate([z, last.transpose(0, 2, 1)], axis=1)
-        idx = np.append(idx, samples - 1)
-    rows = np.asarray(rows)
-    ref = (z[:, :, rows] * scale[:, None, rows]).transpose(0, 2, 1)
-    return idx, (ref[0] if single else ref)
-
-
 def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, scale: float = 1.0, watch=None,
            rows=None):
     """The exact solution: one linear system over the run, or piecewise between strand switches
@@ -280,14 +140,14 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, s
     if rows is None:
         # every row of z into one array: the states, then the generators (the outputs read
         # their sines off it instead of evaluating sin w t again)
-        z = _propagate(F, z0, dt, t.size, parts, scale=balancing)
+        z = propagate(F, z0, dt, t.size, parts, scale=balancing)
         return z[:network.size], t.size - 1, 0, {"generators": z[network.size:], "one_piece": True}
     wanted = np.arange(network.size)[rows]
     x = np.zeros((network.size, t.size))     # rows never written stay zero
     if wanted.size and np.all(np.diff(wanted) == 1):
-        _propagate(F, z0, dt, t.size, parts, wanted, out=x[wanted[0]:wanted[-1] + 1], scale=balancing)
+        propagate(F, z0, dt, t.size, parts, wanted, out=x[wanted[0]:wanted[-1] + 1], scale=balancing)
     else:
-        x[wanted] = _propagate(F, z0, dt, t.size, parts, wanted, scale=balancing)
+        x[wanted] = propagate(F, z0, dt, t.size, parts, wanted, scale=balancing)
     return x, t.size - 1, 0, {}
 
 

@@ -2,7 +2,7 @@
 grazing and take-up done right, the internal step chosen from the dynamics alone.
 
 Between mode changes the network is linear with generator inputs, ``z' = F z`` with
-``z = [x, g]`` (:func:`beltcalc.sim.core.augmented_matrix`). A *mode* is one strand pattern
+``z = [x, g]`` (:func:`beltcalc.sim.propagate.augmented_matrix`). A *mode* is one strand pattern
 (which strands are taut) on one time piece of the inputs. This module propagates the exact
 solution mode by mode:
 
@@ -53,6 +53,7 @@ import numpy as np
 
 from beltcalc.errors import SimulationError
 from beltcalc.sim.linalg import balance, expm
+from beltcalc.sim.propagate import augmented_matrix, orbit
 from beltcalc.sim.scalar import brentq, horner     # brentq: scipy's, bit for bit, without scipy.optimize
 
 _kernels = ...   # scipy's C kernels behind ``csr @ vector`` and ``csr @ dense``: looked up on first use
@@ -137,26 +138,6 @@ def step_length(norm: float, rho: float) -> float:
     radius, 0 where unknown: then ``RHO / ||F~||_1``, which rho never exceeds)."""
     norm = max(norm, 1e-300)
     return min(THETA / norm, RHO / (rho if rho > 0 else norm))
-
-
-def _orbit(step: np.ndarray | list, start: np.ndarray, count: int) -> np.ndarray:
-    """[start, step start, step^2 start, ...] (count rows) by doubling: log2(count) batched
-    products instead of count sequential ones. ``step`` may be the list [step, step^2,
-    step^4, ...] a caller keeps across calls (extended here as far as needed), so a run's
-    many blocks square the step once, not once per block (a size-62 square is as many flops
-    as 60 rows of the orbit)."""
-    out = np.empty((count, start.size))
-    out[0] = start
-    powers = step if isinstance(step, list) else [step]
-    filled, k = 1, 0
-    while filled < count:
-        if k == len(powers):
-            powers.append(powers[-1] @ powers[-1])
-        n = min(filled, count - filled)
-        np.matmul(out[:n], powers[k].T, out=out[filled:filled + n])
-        filled += n
-        k += 1
-    return out
 
 
 def _taylor(Ft: np.ndarray, Z: np.ndarray, L: float, terms: int = TERMS) -> np.ndarray:
@@ -256,7 +237,6 @@ class Mode:
             self._Ms = [(*F.shape, F.indptr, F.indices, F.data * (self.L / j)) for j in range(1, self.terms)]
             self._H, self._absH = _csr(self.H.tocsr()), _csr(self.absH.tocsr())
             return
-        from beltcalc.sim.core import augmented_matrix
 
         F = augmented_matrix(network, taut, t_mid)
         self.Ft = F / S[:, None] * S[None, :]
@@ -330,7 +310,7 @@ class Mode:
         ``midpoints`` (sparse): keep each step's midpoint in ``self.mids`` (with the block's
         first state), which the watch reads instead of a Taylor sum of its own."""
         if not self.sparse:
-            return _orbit(self.doubling(), z, count + 1), None, None
+            return orbit(self.doubling(), z, count + 1), None, None
         Z = np.empty((count + 1, z.size))
         Z[0] = z
         mids = np.empty((count if midpoints else 0, z.size))     # each step's midpoint (the watch's)
@@ -413,21 +393,21 @@ class Mode:
         return self._P[k]
 
     def doubling(self, k: int = 0) -> list:
-        """[P_k, P_k^2, P_k^4, ...] as far as :func:`_orbit` has needed them: the squares a
+        """[P_k, P_k^2, P_k^4, ...] as far as :func:`beltcalc.sim.propagate.orbit` has needed them: the squares a
         run's blocks share."""
         if k not in self._doubling:
             self._doubling[k] = [self.P(k)]
         return self._doubling[k]
 
     def step(self, dt: float) -> list:
-        """[expm(F~ dt), its square, ...] (dense; :func:`_orbit`'s powers, as far as needed),
+        """[expm(F~ dt), its square, ...] (dense; :func:`beltcalc.sim.propagate.orbit`'s powers, as far as needed),
         for reading many uniformly spaced samples off one piece."""
         if getattr(self, "_step", (None,))[0] != dt:
             self._step = (dt, [expm(self.Ft * dt)])
         return self._step[1]
 
     def step_integral(self, dt: float) -> list:
-        """[G, G^2, ...] (:func:`_orbit`'s powers) of ``G = [[S, 0], [Phi, I]]``, ``S = expm(F~
+        """[G, G^2, ...] (:func:`beltcalc.sim.propagate.orbit`'s powers) of ``G = [[S, 0], [Phi, I]]``, ``S = expm(F~
         dt)``, ``Phi = int_0^dt expm(F~ tau) d tau`` (dense): ``[z; I] -> [S z; I + Phi z]`` steps a state and its integral from 0
         one sample on, for reading many uniformly spaced samples and the integrals the
         window's means come from off one piece. Both blocks from one exponential,
@@ -587,7 +567,6 @@ class _SparseParts:
         self.ns = len(network.strands)
 
     def matrix(self, taut: tuple[bool, ...], t_mid: float):
-        from beltcalc.sim.core import augmented_matrix
 
         base = self._base.get(t_mid)
         if base is None:
@@ -750,7 +729,6 @@ class Run:
 
     def __init__(self, network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0,
                  method: str = "exact", integrate: bool = False, watch=None):
-        from beltcalc.sim.core import augmented_matrix
 
         self.network, self.t, self.max_events, self.method = network, t, max_events, method
         t_end = float(t[-1])
@@ -821,7 +799,6 @@ class Run:
         Pretensions cancel on a node between two taut strands but not when one is slack:
         unscaled, that column sets ``||F~||`` (and the step) in every pattern with slack
         strands, 8x on a 60-roller chain, for an input that is constant."""
-        from beltcalc.sim.core import augmented_matrix
 
         S = balance(F0)
         if not self.network.strands:
@@ -859,12 +836,12 @@ class Run:
         if many and not self.integrate:
             # many samples in one piece: the first off its step, the rest by expm(F~ dt) powers
             # (one m^2 product per sample instead of a Taylor sum of TERMS)
-            Z = _orbit(mode.step(self.dt), mode.at(base[k[0]], tau[0]), idx.size)
+            Z = orbit(mode.step(self.dt), mode.at(base[k[0]], tau[0]), idx.size)
         elif self.integrate:
             if many:
                 # the same with the integrals: [z; I] stepped by [[S, 0], [Phi, I]]
                 z0, I0 = mode.at(base[k[0]], tau[0], integrate=True)
-                W = _orbit(mode.step_integral(self.dt), np.concatenate([z0, I0 + I_base[k[0]]]), idx.size)
+                W = orbit(mode.step_integral(self.dt), np.concatenate([z0, I0 + I_base[k[0]]]), idx.size)
                 Z, I = W[:, :z0.size], W[:, z0.size:]
             else:
                 Z, I = mode.at(base[k], tau, integrate=True)
@@ -1079,7 +1056,7 @@ class Run:
                 found = None if hit is None else (hit[0], hit[1] * h, hit[2])
                 self.steps += cnt
             else:
-                Z = _orbit(mode.doubling(), z, cnt + 1)
+                Z = orbit(mode.doubling(), z, cnt + 1)
                 found = None
                 flags = self._hermite(mode, Z[:-1], Z[1:], h)
                 if first:

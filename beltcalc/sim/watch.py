@@ -32,7 +32,8 @@ import numpy as np
 
 from beltcalc.sim.linalg import expm
 from beltcalc.sim.scalar import bounded_minimum
-from beltcalc.sim.switching import SPARSE_SIZE, _orbit
+from beltcalc.sim.propagate import orbit
+from beltcalc.sim.switching import SPARSE_SIZE
 
 GRID = 257          # points per refinement interval before the local optimum is polished
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
@@ -492,7 +493,7 @@ class Watch:
             # them, then its polynomial either side, as on a mode without a ladder
             z0, t0 = self.pool[starts[0][0]], starts[0][1]
             count = int(math.ceil((hi_t - t0) / mode.L * (1 + 1e-12)))
-            Z = _orbit(mode.doubling(mode.K), z0, count + 1)
+            Z = orbit(mode.doubling(mode.K), z0, count + 1)
             times = t0 + np.arange(count + 1) * mode.L
             vals = side * (Z @ self.O[k])
             inside = np.flatnonzero((times >= lo_t) & (times <= hi_t))

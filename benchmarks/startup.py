@@ -72,8 +72,8 @@ def timed(f):     # CPU time of this process (not the time other processes held 
 
 out = {}
 if sys.argv[1] == "propagation":
-    out["exact"] = timed(lambda: core._exact(net, t, x0, cfg))
-    out["exact_warm"] = min(timed(lambda: core._exact(net, t, x0, cfg)) for _ in range(20))
+    out["exact"] = timed(lambda: core.run_exact(net, t, x0, cfg))
+    out["exact_warm"] = min(timed(lambda: core.run_exact(net, t, x0, cfg)) for _ in range(20))
 elif sys.argv[1] == "expm":
     from beltcalc.sim.linalg import expm
     F = propagate.augmented_matrix(net) * (t[1] - t[0])

@@ -61,7 +61,7 @@ def plan(runs: int, batch: bool = True, chunk: int = 250, seed: int = 1):
 def solver_only(count: int = 15) -> tuple[float, float]:
     """(median ``SimResult.wall_time`` of one exact run of the nominal sewing drive, the CPU time
     of the same propagation, ``core._exact``, per call) [s]."""
-    from beltcalc.sim.core import SolverConfig, _exact, simulate
+    from beltcalc.sim.core import SolverConfig, run_exact, simulate
     from beltcalc.sim.scenes import SCENES
     from beltcalc.sim.scenes.sewing import build
 
@@ -71,7 +71,7 @@ def solver_only(count: int = 15) -> tuple[float, float]:
     t, x0 = np.linspace(0.0, 1.0, 10001), net.initial_state()
     c0 = time.process_time()
     for _ in range(count):
-        _exact(net, t, x0, cfg)
+        run_exact(net, t, x0, cfg)
     return wall, (time.process_time() - c0) / count
 
 

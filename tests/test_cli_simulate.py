@@ -39,7 +39,7 @@ from beltcalc.catalogs import builtin_dir
 from beltcalc.cli.main import cli
 from clichecks import edited_copy, ok, one_error_line, read_csv, table_rows
 from beltcalc.errors import SimulationError
-from beltcalc.sim import core
+from beltcalc.sim import core, scipy_methods
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.scenes.sewing import build, steady_speed
 
@@ -367,7 +367,7 @@ def test_simulation_error_inside_the_command_is_one_line(monkeypatch, tmp_path):
         raise SimulationError("method rk45 stopped at t = 0.01 s after 5000000 right-hand-side calls; "
                               "try --method radau")
 
-    monkeypatch.setitem(core.METHODS, "rk45", boom)
+    monkeypatch.setattr(scipy_methods, "rk45", boom)
     out = tmp_path / "out.csv"
     line = one_error_line(run("--method", "rk45", *SHORT, "--csv", str(out)), 1)
     assert line == ("Error: method rk45 stopped at t = 0.01 s after 5000000 right-hand-side calls; "

@@ -42,7 +42,7 @@ from beltcalc.sim.drivefile import load_drive
 from beltcalc.sim.elements import Coupling, Prescribed
 from beltcalc.sim.network import (Gear, Inertia, Load, Network, Prescribed as Pres, SpeedLoop, Strand)
 from beltcalc.sim.scenes import SCENES
-from beltcalc.sim.linalg import balance
+from beltcalc.sim.linalg import balance, expm
 from beltcalc.sim import propagate as prop
 
 EPS = float(np.finfo(float).eps)
@@ -174,7 +174,7 @@ def _old_propagate(F, z0, dt, samples, parts=1):
     m = F.shape[0]
     scale = balance(F)
     Ft = F / scale[:, None] * scale[None, :]
-    step = np.linalg.matrix_power(core.expm(Ft * (dt / parts)), parts)   # the scheme is tested, not expm
+    step = np.linalg.matrix_power(expm(Ft * (dt / parts)), parts)   # the scheme is tested, not expm
     b = max(1, min(samples, int(math.ceil(math.sqrt(samples)))))
     powers = prop.matrix_orbit(step, b)
     jump = step @ powers[b - 1]
@@ -291,7 +291,7 @@ def test_propagated_generators_are_the_sines_to_rounding():
     # grows with the number of steps (6e-12 here), far below the states' own error estimate
     net, t_end, samples = _scene("sewing")
     t = np.linspace(0.0, t_end, samples)
-    x, _, _, info = core._exact(net, t, net.initial_state(), SolverConfig("exact"))
+    x, _, _, info = core.run_exact(net, t, net.initial_state(), SolverConfig("exact"))
     g = info["generators"]
     assert g.shape == (net.generators(0.0).size, samples)
     assert_allclose(g, net.generators(t), rtol=0, atol=samples * 1e-15)
@@ -376,7 +376,7 @@ def test_the_error_estimates_reference_is_the_other_partition_at_its_samples():
     t = np.linspace(0.0, t_end, samples)
     x0 = net.initial_state()
     n = net.n
-    full = core._exact(net, t, x0, SolverConfig("exact"), scale=0.7)[0]
+    full = core.run_exact(net, t, x0, SolverConfig("exact"), scale=0.7)[0]
     F, scale = prop.one_piece(net)
     idx, ref = prop.reference_rows(F, np.concatenate([x0, net.generators(0.0)]), t[1] - t[0], samples,
                                    range(n, 2 * n), scale)

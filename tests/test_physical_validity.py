@@ -99,14 +99,15 @@ def test_a_running_drive_has_no_stall():
 # --- R15: a run far too stiff for its tolerance is refused at its pace, not after its budget ---
 def test_a_pace_that_cannot_finish_in_the_budget_stops_the_run():
     import beltcalc.sim.core as core
+    import beltcalc.sim.scipy_methods as scipy_methods
 
     cfg = core.SolverConfig(max_seconds=10.0)
-    budget = core._budget(cfg, t_end=1.0)
+    budget = scipy_methods.new_budget(cfg, t_end=1.0)
     budget[3] -= 6.0                       # 6 s of computing spent (past PACE_AFTER)
     budget[0] = 256                        # the pace is judged every 256 calls
-    assert not core._over(budget, 0.5)     # 6 s for half the run: 12 s in all, within 5 x 10 s
-    assert core._over(budget, 0.01) and budget[6] == "pace"     # 600 s in all
-    message = core._budget_message("radau", 0.01, cfg, budget)
+    assert not scipy_methods.over(budget, 0.5)     # 6 s for half the run: 12 s in all, within 5 x 10 s
+    assert scipy_methods.over(budget, 0.01) and budget[6] == "pace"     # 600 s in all
+    message = scipy_methods.budget_message("radau", 0.01, cfg, budget)
     assert "at that pace the run would take about" in message and "beyond 10 s" in message
 
 

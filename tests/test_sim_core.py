@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from beltcalc.errors import InputError, SimulationError
-from beltcalc.sim import core
+from beltcalc.sim import scipy_methods
 from beltcalc.sim.core import SolverConfig, conditioning, simulate
 from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Network
 
@@ -252,7 +252,7 @@ def test_steps_of_scipy_methods_are_accepted_steps(name):
 
     plain = solve_ivp(rhs, (0.0, 2.0), [1.0, 0.0], method=name, rtol=1e-8, atol=1e-10)
     counter = [0]
-    counted = solve_ivp(rhs, (0.0, 2.0), [1.0, 0.0], method=core._counting(name, counter), rtol=1e-8, atol=1e-10)
+    counted = solve_ivp(rhs, (0.0, 2.0), [1.0, 0.0], method=scipy_methods.counting(name, counter), rtol=1e-8, atol=1e-10)
     assert counter[0] == plain.t.size - 1
     assert counted.nfev == plain.nfev
 

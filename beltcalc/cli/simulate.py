@@ -17,9 +17,9 @@ from beltcalc.cli.output import (console, display_unit, display_value, format_nu
                                  require_matplotlib, table_csv, write_atomic)
 from beltcalc.errors import render
 from beltcalc.report import Row, Section
+from beltcalc.sim.methods import NAMES
 from beltcalc.sim.scenes.base import Scene
 
-METHOD_NAMES = ["auto", "exact", "radau", "bdf", "lsoda", "odeint", "rk45", "dop853"]
 TIME_OPTIONS = {"t_end": "--t-end", "samples": "--samples", "window": "--window"}
 
 
@@ -417,7 +417,7 @@ def common_options(spec: Scene | None):
                                   help="Start of the steady window [default: the scene's].")]
         opts += [
             click.option("--dt", type=str, default=None, help="Output step instead of --samples, e.g. 0.1ms."),
-            click.option("--method", type=click.Choice(METHOD_NAMES), default="auto", show_default=True),
+            click.option("--method", type=click.Choice(NAMES), default="auto", show_default=True),
             click.option("--rtol", type=Tolerance(1e-14, 1, min_open=True), default=1e-8, show_default=True),
             click.option("--atol", type=Tolerance(1e-16, 1, min_open=True), default=1e-10, show_default=True),
             click.option("--max-events", type=click.IntRange(1, 10_000_000), default=20_000, show_default=True,

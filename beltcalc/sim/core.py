@@ -1,4 +1,4 @@
-"""The one place that integrates. Methods by name from a registry:
+"""The one place that integrates. Methods by name from the registry (:mod:`beltcalc.sim.methods`):
 
 - ``exact``: networks that are linear between switches, with constant, sinusoidal and
   piecewise-linear inputs. The state is augmented with the inputs' generators
@@ -30,84 +30,26 @@ events; if nothing reaches it the run fails with one line, unless ``accept_error
 
 from __future__ import annotations
 
-import math
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
 from beltcalc.errors import InputError, SimulationError, require_positive
-from beltcalc.sim.linalg import balance, expm
+from beltcalc.sim.methods import METHODS, NAMES, SolverConfig
 from beltcalc.sim.network import Network
+from beltcalc.sim.propagate import one_piece, propagate, reference_rows
 from beltcalc.sim.result import SimResult
-from beltcalc.sim.propagate import augmented_matrix, one_piece, propagate, reference_rows
-from beltcalc.sim.switching import EPS, piecewise_exact, slack_times
+from beltcalc.sim.switching import EPS, piecewise_exact
 
+__all__ = ["SolverConfig", "simulate", "choose_method", "conditioning", "estimate_error", "run_exact",
+           "one_piece_accelerations"]
 
-@dataclass(frozen=True)
-class SolverConfig:
-    """method: auto | exact | radau | bdf | lsoda | odeint | rk45 | dop853;
-    rtol/atol for the step-size-controlled methods; max_rhs_calls bounds a run;
-    max_events bounds the strand switches (a strand chattering near zero tension);
-    estimate_error: run a second, independent computation and report the difference;
-    max_seconds bounds the computing time of a scipy run (besides max_rhs_calls: a model
-    many decades stiffer in one part crawls at a few thousand calls a second);
-    error_tol: the largest error estimate accepted, relative to the signal's scale (the
-    largest speed of its unit over the run); accept_error: return a result whose estimate
-    exceeds it (marked) instead of failing."""
-
-    method: str = "auto"
-    rtol: float = 1e-8
-    atol: float = 1e-10
-    max_rhs_calls: int = 5_000_000
-    max_events: int = 20_000
-    estimate_error: bool = True
-    error_tol: float = 1e-6
-    accept_error: bool = False
-    max_seconds: float = 120.0     # computing time a scipy run may take (an ill-conditioned model crawls)
-
+MAX_PHASE = 1e-3 / EPS  # rad: an input's phase w t_end beyond which a float holds it to worse than 1 mrad
 
 FALLBACK_SECONDS = 30.0     # computing time auto's Radau fallback may take
 RADAU_FALLBACK_WORK = 2e6   # strand events x states^2 above which auto's Radau fallback is not tried
 ESTIMATE_STEP = 1.5         # the error estimate's piecewise second run: bottom steps 1.5 times as long
                             # (switching.terms_for: up to 62 Taylor terms): another partition, fewer steps
-
-
-class _Budget(Exception):
-    pass
-
-
-PACE_AFTER = 5.0    # seconds of computing after which a scipy run's pace is judged ...
-PACE_FACTOR = 5.0   # ... and it stops where that pace would take this many times its max_seconds
-
-
-def _budget(cfg: SolverConfig, t_end: float = 0.0) -> list:
-    """[calls so far, max_rhs_calls, the monotonic time by which the run must end, its start,
-    t_end, max_seconds, why it stopped ("calls", "time" or "pace")]."""
-    now = time.monotonic()
-    return [0, cfg.max_rhs_calls, now + cfg.max_seconds, now, float(t_end), cfg.max_seconds, ""]
-
-
-def _over(budget: list, t: float) -> bool:
-    """Whether a scipy run at time ``t`` has spent its budget: its right-hand-side calls, its
-    computing time, or (judged every 256 calls after PACE_AFTER s) a pace at which reaching
-    t_end would take over PACE_FACTOR times its computing time: a run many decades too stiff
-    for its tolerance is refused in seconds, not after its whole budget (issue 27 R15: the
-    error estimate's Radau at 1/100 of the tolerances reached 0.0046 s of 0.05 s in 120 s)."""
-    if budget[0] > budget[1]:
-        budget[6] = "calls"
-        return True
-    if budget[0] & 255:
-        return False
-    now = time.monotonic()
-    if now > budget[2]:
-        budget[6] = "time"
-        return True
-    spent = now - budget[3]
-    if budget[4] > 0 and spent > PACE_AFTER and spent * budget[4] > PACE_FACTOR * budget[5] * max(t, 0.0):
-        budget[6] = "pace"
-        return True
-    return False
 
 
 def _initial(network: Network, x0: np.ndarray | None) -> np.ndarray:
@@ -117,8 +59,8 @@ def _initial(network: Network, x0: np.ndarray | None) -> np.ndarray:
     return x
 
 
-def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, scale: float = 1.0, watch=None,
-           rows=None):
+def run_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, scale: float = 1.0, watch=None,
+              rows=None):
     """The exact solution: one linear system over the run, or piecewise between strand switches
     and time break points (:mod:`beltcalc.sim.switching`). ``scale`` != 1 runs another internal
     partition (the error estimate's second computation). ``rows``: the state rows wanted; a
@@ -151,282 +93,6 @@ def _exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig, s
     return x, t.size - 1, 0, {}
 
 
-# --- scipy's solvers ----------------------------------------------------------------------------
-def _generators(network: Network):
-    """A fast g(t) for one time value (the solvers call it at every step)."""
-    freqs, ramp = network.frequencies(), network.ramp
-
-    def gen(t):
-        out = [1.0, t] if ramp else [1.0]
-        for w in freqs:
-            out += [math.sin(w * t), math.cos(w * t)]
-        return np.array(out)
-    return gen
-
-
-def _system(network: Network, taut, t_mid: float, budget: list[int]):
-    """rhs and Jacobian of one strand mode on one time piece."""
-    A, B = network.first_order(taut, t_mid)
-    nonlinear = not network.linear
-    gen = _generators(network)
-
-    def rhs(t, x):
-        budget[0] += 1
-        if _over(budget, t):
-            raise _Budget(t)
-        dx = A @ x + B @ gen(t)
-        if nonlinear:
-            dx += network.nonlinear_terms(t, x)
-        return dx
-
-    def jac(t, x):
-        return A + network.nonlinear_jacobian(x) if nonlinear else A
-
-    return rhs, jac
-
-
-# --- scipy's solvers with events (strand mode by its rates, restarted at each switch) -------------
-class _Switches:
-    """The strand mode, its switches and the event budget of one run."""
-
-    def __init__(self, network: Network, z0: np.ndarray, cfg: SolverConfig, method: str, h: float):
-        self.network, self.cfg, self.method = network, cfg, method
-        delta, force = network.strand_rows()
-        d, f = delta @ z0, force @ z0
-        # at rest a strand without pretension sits on the surface; it is taut if it stretches
-        self.taut = tuple(bool(a > 0 and b > 0) for a, b in zip(d, f))
-        F = augmented_matrix(network, self.taut)
-        self.taut = tuple(network.taut_after(k, z0, F @ z0, _ahead(F, z0, h), h) for k in range(len(d)))
-        self.start = self.taut
-        self.log: list[tuple[float, int, bool]] = []
-        self.located = 0
-
-    def switch(self, strand: int, t: float, z: np.ndarray, F: np.ndarray, h: float) -> None:
-        """Decide strand ``strand``'s mode just after ``t`` and record a change."""
-        self.located += 1
-        if self.located > self.cfg.max_events:
-            name = self.network.strands[strand].name
-            raise SimulationError(
-                f"method {self.method}: {self.cfg.max_events} strand events by t = {t:.6g} s (strand {name} "
-                "chatters near zero tension); add pretension or damping, or raise `max_events`")
-        on = self.network.taut_after(strand, z, F @ z, _ahead(F, z, h), h)
-        if on != self.taut[strand]:
-            self.taut = tuple(on if k == strand else v for k, v in enumerate(self.taut))
-            self.log.append((t, strand, on))
-
-    def info(self, t_end: float) -> dict:
-        """Switch count and each strand's time slack [s]."""
-        return {"events": len(self.log), "located": self.located,
-                "slack_time": slack_times(self.network, self.start, self.log, t_end)}
-
-
-def _ahead(F: np.ndarray, z: np.ndarray, h: float) -> np.ndarray:
-    """The state a moment (1e-6 h) later, by its Taylor series to second order."""
-    eps = 1e-6 * h
-    dz = F @ z
-    return z + eps * dz + 0.5 * eps ** 2 * (F @ dz)
-
-
-
-def _counting(name: str, counter: list[int]):
-    """scipy's solver class ``name``, counting its accepted steps in ``counter[0]``
-    (solve_ivp reports right-hand-side calls, not steps; each ``step()`` call that does
-    not fail is one accepted step)."""
-    import scipy.integrate
-
-    base = getattr(scipy.integrate, name)
-
-    class Counting(base):
-        def step(self):
-            message = super().step()
-            if self.status != "failed":
-                counter[0] += 1
-            return message
-
-    Counting.__name__ = name
-    return Counting
-
-
-def _ivp(name: str, uses_jac: bool):
-    def run(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
-        from scipy.integrate import solve_ivp    # here, not at the top: the exact path needs none of it
-
-        budget = _budget(cfg, t[-1])
-        steps = [0]
-        solver = _counting(name, steps)
-        N, m, t_end = t.size, network.size, t[-1]
-        eps = 1e-9 * (t[1] - t[0])
-        starts = network.segment_starts(t_end)
-        ends = starts[1:] + [math.inf]
-        x = np.asarray(x0, dtype=float)
-        sw = _Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower(), t[1] - t[0])
-        out = np.empty((m, N))
-        out[:, 0] = x
-        k, t_cur, skip = 0, 0.0, ()
-        stats = {"nfev": 0, "njev": 0, "nlu": 0}
-        while k < N - 1:
-            seg = network.segment(t_cur + eps, starts)
-            t_stop = min(ends[seg], t_end)
-            mid = network.piece_time(seg, starts, t_end)
-            rhs, jac = _system(network, sw.taut, mid, budget)
-            events = []
-            gen = _generators(network)
-            switching = network.events(sw.taut)
-            for j, ev in enumerate(switching):
-                def fn(tt, xx, row=ev.row, start=t_cur, again=j in skip, sign=ev.direction):
-                    value = row[:m] @ xx + row[m:] @ gen(tt)
-                    # a function that just fired without a switch restarts past its surface
-                    return sign * max(abs(value), 1e-300) if again and tt == start else value
-                fn.terminal, fn.direction = True, ev.direction
-                events.append(fn)
-            last = int(np.searchsorted(t, t_stop + eps, side="right")) - 1
-            t_eval = [min(tt, t_stop) for tt in t[k + 1:last + 1]]   # a sample within eps past the break
-            if not t_eval or abs(t_eval[-1] - t_stop) > eps:
-                t_eval.append(t_stop)
-            kwargs = {"jac": jac} if uses_jac else {}
-            try:
-                sol = solve_ivp(rhs, (t_cur, t_stop), x, method=solver, t_eval=t_eval, rtol=cfg.rtol,
-                                atol=cfg.atol, events=events or None, **kwargs)
-            except _Budget as stop:
-                raise SimulationError(_budget_message(name, stop.args[0], cfg, budget, network)) from None
-            for key in stats:
-                stats[key] += int(getattr(sol, key))
-            if sol.status < 0:
-                reached = sol.t[-1] if sol.t.size else t_cur
-                raise SimulationError(f"method {name.lower()} failed at t = {reached:.6g} s: {sol.message}; "
-                                      "try `method` radau or bdf, or looser `rtol`/`atol`")
-            grid = [j for j, tt in enumerate(sol.t) if k + 1 + j <= last and abs(tt - t[k + 1 + j]) <= eps]
-            for j in grid:
-                out[:, k + 1 + j] = sol.y[:, j]
-            k += len(grid)
-            if sol.status == 1:
-                fired = [(te[0], j) for j, te in enumerate(sol.t_events) if te.size]
-                t_e, j = min(fired)
-                x = sol.y_events[j][0]
-                z = np.concatenate([x, network.generators(t_e)])
-                ev = switching[j]
-                before = sw.taut
-                sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0])
-                skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())
-                t_cur = t_e
-            else:
-                t_cur, x, skip = t_stop, sol.y[:, -1], ()
-        return out, steps[0], stats["nfev"], {"jacobians": stats["njev"], "lu": stats["nlu"], **sw.info(t_end)}
-    return run
-
-
-def _odeint(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
-    from scipy.integrate import odeint    # here, not at the top: the exact path needs none of it
-
-    budget = _budget(cfg, t[-1])
-    starts = network.segment_starts(t[-1])
-    delta, force = network.strand_rows()
-    gen = _generators(network)
-    fixed = network.first_order() if network.smooth else None
-
-    def mode(tt, x):
-        if fixed is not None:
-            return fixed, None
-        seg = network.segment(tt, starts)
-        mid = network.piece_time(seg, starts, t[-1])
-        if not network.strands:
-            return network.first_order(None, mid), None
-        z = np.concatenate([x, gen(tt)])
-        taut = tuple(bool(v) for v in (delta @ z > 0) & (force @ z > 0))
-        return network.first_order(taut, mid), taut
-
-    def rhs(tt, x):    # the raw right-hand side: each strand taut or slack by its own state
-        budget[0] += 1
-        if _over(budget, tt):
-            raise _Budget(tt)
-        (A, B), _ = mode(tt, x)
-        dx = A @ x + B @ gen(tt)
-        if not network.linear:
-            dx += network.nonlinear_terms(tt, x)
-        return dx
-
-    def jac(tt, x):
-        (A, _), _ = mode(tt, x)
-        return A + network.nonlinear_jacobian(x) if not network.linear else A
-
-    crit = np.array(network.breaks(t[-1]) + [t[-1]])
-    try:
-        y, info = odeint(rhs, x0, t, Dfun=jac, rtol=cfg.rtol, atol=cfg.atol, full_output=True,
-                         tfirst=True, tcrit=crit, mxstep=max(500, cfg.max_rhs_calls // max(t.size, 1)))
-    except _Budget as stop:
-        raise SimulationError(_budget_message("odeint", stop.args[0], cfg, budget, network)) from None
-    if info["message"] != "Integration successful.":
-        reached = float(info["tcur"][-1]) if len(info["tcur"]) else t[0]
-        reached = reached if 1e-100 <= reached <= t[-1] else t[0]   # unset before the first output: garbage
-        raise SimulationError(f"method odeint failed at t = {reached:.6g} s: {info['message']}; "
-                              "try `method` radau, or looser `rtol`/`atol`")
-    extra = {"jacobians": int(info["nje"][-1])}
-    if network.strands:   # no events: the slack time from the samples
-        taut = network.taut_of(y.T, t)
-        dt = t[1] - t[0]
-        extra["slack_time"] = {s.name: float(np.sum(~taut[k][1:]) * dt) for k, s in enumerate(network.strands)}
-        extra["events"] = int(np.sum(np.diff(taut.astype(int), axis=1) != 0))
-    return y.T, int(info["nst"][-1]), int(info["nfe"][-1]), extra
-
-
-MAX_PHASE = 1e-3 / EPS  # rad: an input's phase w t_end beyond which a float holds it to worse than 1 mrad
-STEPS_PER_PERIOD = 4   # fewer steps than this per period of an input no step-size control accepts
-
-
-def _require_resolvable_inputs(network: Network, t_end: float, cfg: SolverConfig, method: str) -> None:
-    """Refuse at once a time-stepping run whose fastest sinusoidal input cannot be followed
-    within the budget: it needs at least STEPS_PER_PERIOD right-hand-side calls per period
-    (e.g. a load at 1e82 rpm: 1e79 periods in a short run, where Radau would spend its whole
-    ``max_rhs_calls`` and ``max_seconds`` budget before failing). The exact method takes
-    these inputs exactly, whatever their frequency."""
-    freqs = network.frequencies()
-    if not freqs:
-        return
-    w = max(abs(f) for f in freqs)
-    periods = w * t_end / (2 * math.pi)
-    if periods * STEPS_PER_PERIOD > cfg.max_rhs_calls:
-        instead = "`method` exact (it takes sinusoidal inputs exactly)" if network.linear else \
-            "a lower frequency or a shorter `t_end`"
-        raise SimulationError(
-            f"method {method}: an input at {w:.4g} rad/s oscillates {periods:.3g} times in the run; following it "
-            f"needs more than the {cfg.max_rhs_calls} right-hand-side calls allowed (at least {STEPS_PER_PERIOD} a "
-            f"period); try {instead}")
-
-
-def _budget_message(method: str, reached: float, cfg: SolverConfig, budget: list,
-                    network: Network | None = None) -> str:
-    try:            # suggest exact only where it runs: a network linear between switches
-        exact = network is None or (network.linear and choose_method(network, "exact")[0] == "exact")
-    except InputError:
-        exact = False
-    if method.lower() in ("rk45", "dop853"):
-        why = "the system is stiff for an explicit method, or switches too often?"
-        instead = "`method` exact, radau or bdf" if exact else "`method` radau or bdf"
-    else:
-        why = ("the solution is hard at this tolerance, switches too often, or the model is many decades stiffer in "
-               "one part?")
-        instead = "`method` exact, or a looser `rtol`/`atol`" if exact else "a looser `rtol`/`atol`"
-    if budget[6] == "pace":
-        spent = time.monotonic() - budget[3]
-        return (f"method {method.lower()} stopped at t = {reached:.6g} s of {budget[4]:g} s after {spent:.3g} s of "
-                f"computing ({budget[0]} right-hand-side calls): at that pace the run would take about "
-                f"{spent * budget[4] / max(reached, 1e-300):.3g} s, beyond {cfg.max_seconds:g} s ({why}); try {instead}")
-    spent = (f"{cfg.max_rhs_calls} right-hand-side calls" if budget[0] > budget[1] else
-             f"{cfg.max_seconds:g} s of computing ({budget[0]} right-hand-side calls)")
-    return f"method {method.lower()} stopped at t = {reached:.6g} s after {spent} ({why}); try {instead}"
-
-
-METHODS = {
-    "exact": _exact,
-    "radau": _ivp("Radau", True),
-    "bdf": _ivp("BDF", True),
-    "lsoda": _ivp("LSODA", True),
-    "odeint": _odeint,
-    "rk45": _ivp("RK45", False),
-    "dop853": _ivp("DOP853", False),
-}
-
-
 def choose_method(network: Network, requested: str) -> tuple[str, str]:
     """The method to run and why."""
     if requested == "auto":
@@ -440,7 +106,7 @@ def choose_method(network: Network, requested: str) -> tuple[str, str]:
         return "radau", (f"auto: {'; '.join(why)}: the network is nonlinear; implicit Radau with the analytic "
                          "Jacobian")
     if requested not in METHODS:
-        raise InputError(f"{requested!r} is not a method; use one of auto, {', '.join(METHODS)}", param="method")
+        raise InputError(f"{requested!r} is not a method; use one of {', '.join(NAMES)}", param="method")
     return requested, "requested"
 
 
@@ -525,11 +191,13 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
 def _run(network, t, x0, cfg, method, reason, scale: float = 1.0, watch: tuple | None = None) -> SimResult:
     start = time.perf_counter()
     spy = _watch(network, *watch[:2]) if watch and method == "exact" else None
-    if method == "exact":
-        x, steps, calls, extra = _exact(network, t, x0, cfg, scale, spy)
+    if METHODS[method].exact:
+        x, steps, calls, extra = METHODS[method].run(network, t, x0, cfg, scale, spy)
     else:
-        _require_resolvable_inputs(network, float(t[-1]), cfg, method)
-        x, steps, calls, extra = METHODS[method](network, t, x0, cfg)
+        from beltcalc.sim.scipy_methods import require_resolvable_inputs
+
+        require_resolvable_inputs(network, float(t[-1]), cfg, method)
+        x, steps, calls, extra = METHODS[method].run(network, t, x0, cfg)
     wall = time.perf_counter() - start
     if not np.all(np.isfinite(x)):
         raise SimulationError(f"method {method} gave non-finite values; try another `method`")
@@ -614,15 +282,15 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
                                   range(n, 2 * n), balancing)
         label = "exact with another internal step and scaling of A h"
     elif method == "exact":
-        ref = _exact(network, t, x0, cfg, scale=ESTIMATE_STEP, rows=range(n, 2 * n))[0][n:2 * n]
+        ref = run_exact(network, t, x0, cfg, scale=ESTIMATE_STEP, rows=range(n, 2 * n))[0][n:2 * n]
         label = "exact with another internal step and scaling of A h"
     elif network.linear:
-        ref = _exact(network, t, x0, cfg, rows=range(n, 2 * n))[0][n:2 * n]
+        ref = run_exact(network, t, x0, cfg, rows=range(n, 2 * n))[0][n:2 * n]
         label = "exact solution"
     else:
         tight = SolverConfig("radau", cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, cfg.max_events, False)
         try:
-            ref = METHODS["radau"](network, t, x0, tight)[0][n:2 * n]
+            ref = METHODS["radau"].run(network, t, x0, tight)[0][n:2 * n]
         except SimulationError as e:
             raise SimulationError(f"the error estimate's second computation (radau at 1/100 of the tolerances, "
                                   f"rtol {tight.rtol:.2g}): {e}") from None

@@ -15,11 +15,11 @@ from typing import Callable
 import numpy as np
 
 from beltcalc.errors import SimulationError
-from beltcalc.sim.core import METHODS, SolverConfig, simulate
+from beltcalc.sim.core import SolverConfig, simulate
+from beltcalc.sim.methods import METHODS
 from beltcalc.sim.network import Network
 
 TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
-EXPLICIT = ("rk45", "dop853")
 EXACT_REPEATS = 30       # the exact row's time: the best of this many runs (cheap next to one scipy run)
 
 
@@ -49,12 +49,12 @@ def work_precision(network: Network, t_end: float, samples: int, signal: str,
                         "its estimate: vs another internal partition"))
     if progress:
         progress()
-    for method in (m for m in METHODS if m != "exact"):
-        tols = explicit_tolerances if method in EXPLICIT else tolerances
+    for method in (m for m in METHODS if not METHODS[m].exact):
+        tols = explicit_tolerances if METHODS[method].explicit else tolerances
         for tol in tols:
             cfg = SolverConfig(method, rtol=tol, atol=tol / 100, max_rhs_calls=max_rhs_calls, estimate_error=False)
             try:
-                runs = [simulate(network, t_end, samples, cfg) for _ in range(1 if method in EXPLICIT else repeats)]
+                runs = [simulate(network, t_end, samples, cfg) for _ in range(1 if METHODS[method].explicit else repeats)]
                 r = min(runs, key=lambda x: x.wall_time)
                 rows.append(WorkRow(method, tol, r.wall_time, r.rhs_calls, r.steps,
                                     float(np.max(np.abs(r[signal] - ref)))))
@@ -67,7 +67,7 @@ def work_precision(network: Network, t_end: float, samples: int, signal: str,
 
 def count_runs(tolerances=TOLERANCES, explicit_tolerances=(1e-3, 1e-6)) -> int:
     """How many rows :func:`work_precision` makes (for a progress bar)."""
-    return 1 + sum(len(explicit_tolerances if m in EXPLICIT else tolerances) for m in METHODS if m != "exact")
+    return 1 + sum(len(explicit_tolerances if m.explicit else tolerances) for m in METHODS.values() if not m.exact)
 
 
 def fastest_at(rows: list[WorkRow], error: float) -> dict[str, WorkRow]:

@@ -1,0 +1,78 @@
+"""The registry of the core's methods: one :class:`Method` record per name. The core
+dispatches on it, the CLI's ``--method`` choices and the work-precision tables read it, and
+a new method is one record here. Nothing is imported at module level but the standard
+library: a record names its runner as ``"module:function"``, imported on its first run (the
+exact path never loads scipy).
+
+>>> [m.name for m in METHODS.values() if m.explicit]
+['rk45', 'dop853']
+>>> NAMES[:3]
+('auto', 'exact', 'radau')
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SolverConfig:
+    """method: auto | exact | radau | bdf | lsoda | odeint | rk45 | dop853;
+    rtol/atol for the step-size-controlled methods; max_rhs_calls bounds a run;
+    max_events bounds the strand switches (a strand chattering near zero tension);
+    estimate_error: run a second, independent computation and report the difference;
+    max_seconds bounds the computing time of a scipy run (besides max_rhs_calls: a model
+    many decades stiffer in one part crawls at a few thousand calls a second);
+    error_tol: the largest error estimate accepted, relative to the signal's scale (the
+    largest speed of its unit over the run); accept_error: return a result whose estimate
+    exceeds it (marked) instead of failing."""
+
+    method: str = "auto"
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    max_rhs_calls: int = 5_000_000
+    max_events: int = 20_000
+    estimate_error: bool = True
+    error_tol: float = 1e-6
+    accept_error: bool = False
+    max_seconds: float = 120.0     # computing time a scipy run may take (an ill-conditioned model crawls)
+
+
+@dataclass(frozen=True)
+class Method:
+    """One method of :func:`beltcalc.sim.core.simulate`.
+
+    ``runner(network, t, x0, cfg)`` returns ``(x, steps, rhs_calls, extra)``; the exact
+    method's also takes ``scale`` (another internal partition, for the error estimate) and
+    ``watch``. ``exact``: propagated exactly between switches (needs a network linear between
+    them); ``explicit``: an explicit Runge-Kutta pair (stiff systems exhaust its budget);
+    ``jacobian``: takes the analytic Jacobian."""
+
+    name: str
+    runner: str
+    summary: str
+    exact: bool = False
+    explicit: bool = False
+    jacobian: bool = False
+
+    def run(self, *args, **kwargs):
+        module, _, function = self.runner.partition(":")
+        return getattr(importlib.import_module(module), function)(*args, **kwargs)
+
+
+METHODS: dict[str, Method] = {m.name: m for m in (
+    Method("exact", "beltcalc.sim.core:run_exact", "exact propagation between switches (linear networks)",
+           exact=True),
+    Method("radau", "beltcalc.sim.scipy_methods:radau", "scipy Radau IIA, implicit, order 5", jacobian=True),
+    Method("bdf", "beltcalc.sim.scipy_methods:bdf", "scipy BDF, implicit, orders 1-5", jacobian=True),
+    Method("lsoda", "beltcalc.sim.scipy_methods:lsoda", "scipy LSODA (solve_ivp), stiff/non-stiff switching",
+           jacobian=True),
+    Method("odeint", "beltcalc.sim.scipy_methods:odeint_run", "scipy odeint (LSODA, Dfun), no events",
+           jacobian=True),
+    Method("rk45", "beltcalc.sim.scipy_methods:rk45", "scipy RK45, explicit", explicit=True),
+    Method("dop853", "beltcalc.sim.scipy_methods:dop853", "scipy DOP853, explicit, order 8", explicit=True),
+)}
+
+#: every name ``method`` takes: ``auto`` (exact where the network allows it, else radau) and the registry's
+NAMES: tuple[str, ...] = ("auto", *METHODS)

@@ -159,6 +159,12 @@ def rows_json(rows: Iterable[Row], **extra) -> str:
     return dumps(obj)
 
 
+def unit_label(unit: str) -> str:
+    """A unit as a table or axis shows it: ``N m``, ``rad/s``, ``-`` for a plain number."""
+    unit = "" if unit in ("1", "") else unit.replace("**", "^").replace("*", " ")
+    return unit or "-"
+
+
 def inputs_json(params, resolved) -> dict:
     """Every input of the run with its value in SI, its unit, the text it was read from and
     its origin: ``"option"`` (given on the command line) or ``"scene: <why>"``. A name (a

@@ -13,7 +13,7 @@ import click
 
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION, option_name
 from beltcalc.cli.options import DriveRef, OutputPath, Tolerance, catalog_option, output_options
-from beltcalc.cli.output import (console, display_unit, display_value, format_number, inputs_json, print_table, progress, spinner, dumps, emit_warnings, wrote,
+from beltcalc.cli.output import (console, display_unit, display_value, format_number, inputs_json, print_table, unit_label, progress, spinner, dumps, emit_warnings, wrote,
                                  require_matplotlib, table_csv, write_atomic)
 from beltcalc.errors import render
 from beltcalc.report import Row, Section
@@ -233,7 +233,7 @@ def _render_sweep(spec: Scene, sweep, title: str, as_json, csv_path, plot_path, 
     t = Table(title=f"sweep of {sweep.name}", title_justify="left")
     for i in shown:
         c = columns[i]
-        t.add_column(escape(f"{c.label.replace(': ', chr(10))}\n[{_unit_label(c.display)}]"), justify="right")
+        t.add_column(escape(f"{c.label.replace(': ', chr(10))}\n[{unit_label(c.display)}]"), justify="right")
     for r in table:
         t.add_row(*("-" if r[i] is None else format_number(convert(r[i], columns[i].unit, columns[i].display), 4)
                     for i in shown))
@@ -241,12 +241,6 @@ def _render_sweep(spec: Scene, sweep, title: str, as_json, csv_path, plot_path, 
         console().print(f"({len(table)} rows)", markup=False)
     console().print(t)
     console().print("every column: --json or --csv", markup=False)
-
-
-def _unit_label(unit: str) -> str:
-    """A unit as a table or axis shows it: ``N m``, ``rad/s``, ``-`` for a plain number."""
-    unit = "" if unit in ("1", "") else unit.replace("**", "^").replace("*", " ")
-    return unit or "-"
 
 
 def _work_precision(spec: Scene, values: dict, options: dict, as_json: bool, csv_path) -> None:
@@ -327,15 +321,15 @@ def _plot_sweep(columns, table, path, swept: int = 1) -> None:
         groups = {k: groups[k] for k in keep}
 
     def legend(k):
-        return ", ".join(f"{c.label} = {format_number(convert(v, c.unit, c.display), 4)} {_unit_label(c.display)}"
+        return ", ".join(f"{c.label} = {format_number(convert(v, c.unit, c.display), 4)} {unit_label(c.display)}"
                          for c, v in zip(columns[1:swept], k)) or None
 
-    panels = [(f"{c.label}\n[{_unit_label(c.display)}]",
+    panels = [(f"{c.label}\n[{unit_label(c.display)}]",
                [([convert(r[0], columns[0].unit, columns[0].display) for r in rows],
                  [None if r[i] is None else convert(r[i], c.unit, c.display) for r in rows], "o-", legend(k))
                 for k, rows in groups.items()])
               for i, c in enumerate(columns) if i >= swept]
-    _save_plot(path, f"{columns[0].label} [{_unit_label(columns[0].display)}]", panels, (7, 2.4), ylabel_size=7)
+    _save_plot(path, f"{columns[0].label} [{unit_label(columns[0].display)}]", panels, (7, 2.4), ylabel_size=7)
 
 
 def _save_plot(path, xlabel: str, panels, size: tuple[float, float], ylabel_size=None, limits=None,

@@ -147,7 +147,7 @@ def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts,
         _plot(summary, dists, columns, limits, spec, plot_path)
         wrote(plot_path)
     if as_json:
-        from beltcalc.cli.simulate import inputs_json
+        from beltcalc.cli.output import inputs_json
 
         inputs = inputs_json(spec.params, resolved)
         for n, d in dists:                 # a varied input: its distribution, not one value
@@ -276,7 +276,7 @@ def _print(obj, summary, columns, dists) -> None:
     from rich.table import Table
 
     from beltcalc.cli.output import console, format_number
-    from beltcalc.cli.simulate import _unit_label
+    from beltcalc.cli.output import unit_label
     from beltcalc.sim.study import PERCENTILES
 
     out = console(200)
@@ -286,7 +286,7 @@ def _print(obj, summary, columns, dists) -> None:
         t.add_column(col, justify="right" if col in ("mean", "sd") else "left")
     for n, d in dists:
         t.add_row(n, escape(d.text.partition("=")[2]), format_number(d.mean, 4), format_number(d.sd, 4),
-                  _unit_label(d.unit))
+                  unit_label(d.unit))
     out.print(t)
     t = Table(title="outputs", title_justify="left")
     t.add_column("output [unit]", no_wrap=True)
@@ -297,7 +297,7 @@ def _print(obj, summary, columns, dists) -> None:
         e = summary.outputs.get(key, {})
         infl = [i for i in e.get("influence", []) if i["src"] is not None or i["spearman"] is not None][:1]
         moved = ", ".join(f"{i['input']} {_num(i['src'])} / {_num(i['spearman'])}" for i in infl)
-        t.add_row(escape(f"{col.label} [{_unit_label(col.display or col.unit)}]"),
+        t.add_row(escape(f"{col.label} [{unit_label(col.display or col.unit)}]"),
                   *(_fmt(e.get(s), col) for s in ("mean", "sd", *(f"p{p}" for p in PERCENTILES), "min", "max")),
                   escape(moved or "-"))
     out.print(t)
@@ -333,7 +333,7 @@ def _plot(summary, dists, columns, limits, spec, path) -> None:
     import numpy as np
 
     from beltcalc.cli.output import write_atomic
-    from beltcalc.cli.simulate import _unit_label
+    from beltcalc.cli.output import unit_label
     from beltcalc.units import convert
 
     keys = list(columns)
@@ -355,7 +355,7 @@ def _plot(summary, dists, columns, limits, spec, path) -> None:
                 level = lim.bound if unit == (col.unit or "1") else convert(lim.bound, col.unit, unit)
                 ax_h.axvline(level, color="tab:red", ls="--", lw=1, label=f"limit {lim.op} {level:.6g}")
                 ax_h.legend(fontsize=8)
-        ax_h.set_xlabel(f"{col.label} [{_unit_label(unit)}]", fontsize=8)
+        ax_h.set_xlabel(f"{col.label} [{unit_label(unit)}]", fontsize=8)
         ax_h.set_ylabel("runs")
         infl = [i for i in e.get("influence", []) if i["src"] is not None][::-1]
         ax_t.barh([i["input"] for i in infl], [i["src"] for i in infl],

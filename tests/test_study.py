@@ -11,7 +11,8 @@ import pytest
 from beltcalc.errors import UsageError
 from beltcalc.sim.core import SolverConfig
 from beltcalc.sim.scenes import SCENES
-from beltcalc.sim.scenes.base import grid_scene, run_scene
+from beltcalc.sim.scenes.base import run_scene
+from beltcalc.sim.sweeps import grid_scene
 from beltcalc.sim.study import (Accumulator, Distribution, Plan, RunRow, execute, parse_limit, parse_vary,
                                 run_chunk, tolerance_study, wilson)
 

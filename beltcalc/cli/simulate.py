@@ -42,7 +42,8 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
     from beltcalc.errors import require_positive
     from beltcalc.params import parse_assignments, sweep_points
     from beltcalc.sim.core import SolverConfig
-    from beltcalc.sim.scenes.base import grid_scene, run_scene
+    from beltcalc.sim.scenes.base import run_scene
+    from beltcalc.sim.sweeps import grid_scene
 
     if click.get_current_context().meta.get(LIST_PARAMS):
         _list_params(spec, scene, as_json)

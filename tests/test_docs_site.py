@@ -58,6 +58,69 @@ def test_the_api_page_lists_every_export():
         assert f"::: {path}\n" in text or f"][{path}]" in text, path
 
 
+def test_the_extension_knows_the_api_pages():
+    """mkdocs.yml's ``documented`` list (where a docstring's role may link) is the set of modules
+    the API pages render (``::: module`` on a page of its own)."""
+    config = CONFIG.read_text(encoding="utf-8")
+    listed = set(re.findall(r"beltcalc[\w.]*", re.search(r"documented: \[([^\]]*)\]", config)[1]))
+    pages = {m for page in (ROOT / "docs" / "api").glob("*.md") if page.name != "index.md"
+             for m in re.findall(r"^::: ([\w.]+)$", page.read_text(encoding="utf-8"), flags=re.M)}
+    assert listed == pages
+
+
+PACKAGE = {
+    "__init__.py": '''"""Exports :func:`run` and :class:`Thing`."""
+_WHERE = {"run": "toy.api", "Thing": "toy.model"}
+''',
+    "api.py": '''"""The API: :func:`run`, :func:`~toy.api.run`, :func:`_helper`, :class:`pandas.DataFrame`,
+:func:`toy.hidden.secret`, :func:`gone`, :math:`x^2`, :class:`Thing`.
+
+.. math::
+
+    x = 1
+
+>>> run()
+1
+"""
+from toy.model import Thing
+
+
+def run():
+    """Run it."""
+    return 1
+
+
+def _helper():
+    """A helper."""
+''',
+    "model.py": '''class Thing:
+    """A thing."""
+''',
+    "hidden.py": '''def secret():
+    """Not on the site."""
+''',
+}
+
+
+def test_a_role_links_where_its_target_is_on_the_site(tmp_path):
+    """The griffe extension on a toy package: a role to a documented object is a link (one to a
+    name that is not there too, so the strict build fails on it); a private helper, an object
+    of a module without a page and an outside name are code; math and doctest blocks are fenced."""
+    griffe = pytest.importorskip("griffe", reason="the docs extra (mkdocstrings[python]) brings griffe")
+    (tmp_path / "toy").mkdir()
+    for name, text in PACKAGE.items():
+        (tmp_path / "toy" / name).write_text(text, encoding="utf-8")
+    roles = _ext("rst_roles")
+    pkg = griffe.load("toy", search_paths=[str(tmp_path)],
+                      extensions=griffe.load_extensions(roles.RstRoles(documented=["toy.api"])))
+    assert pkg.docstring.value == "Exports [`run`][toy.api.run] and [`Thing`][toy.model.Thing]."
+    doc = pkg["api"].docstring.value
+    assert doc.startswith("The API: [`run`][toy.api.run], [`run`][toy.api.run], `_helper`, `pandas.DataFrame`,\n"
+                          "`toy.hidden.secret`, [`gone`][toy.api.gone], `x^2`, [`Thing`][toy.model.Thing].")
+    assert "```tex\nx = 1\n```" in doc
+    assert "```pycon\n>>> run()\n1\n```" in doc
+
+
 @pytest.mark.parametrize("source, expected", [
     # a list right under a paragraph line gets its blank line; a two-space nested item, four
     ("Rules:\n- one\n  - nested\n  more\n- two\n", "Rules:\n\n- one\n    - nested\n    more\n- two\n"),

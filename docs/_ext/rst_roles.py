@@ -130,7 +130,9 @@ def _blocks(text: str) -> str:
                 i += 1
             while body and not body[-1]:
                 body.pop()
-            out += [f"{indent}```tex", *[f"{indent}{b}" for b in body if b], f"{indent}```", ""]
+            while body and not body[0]:
+                body.pop(0)
+            out += [f"{indent}```tex", *[f"{indent}{b}" if b else "" for b in body], f"{indent}```", ""]
             continue
         if stripped.startswith(">>>") and not in_examples:
             out.append(f"{indent}```pycon")

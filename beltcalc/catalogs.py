@@ -14,7 +14,6 @@ wheel (hatchling ``force-include``).
 
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import tomllib
@@ -23,7 +22,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Iterable
 
-from beltcalc.errors import CatalogError, UnknownNameError
+from beltcalc.errors import CatalogError, UnknownNameError, did_you_mean
 from beltcalc.units import conversion_factor, quote, unit_problem
 
 
@@ -341,7 +340,8 @@ class _Reader:
         self.units = self.data.get("units", {})
         unknown = set(self.data) - set(allowed)
         if unknown:
-            self.fail(sorted(unknown)[0], f"unknown top-level key (allowed: {', '.join(allowed)})")
+            key = sorted(unknown)[0]
+            self.fail(key, f"unknown top-level key; {did_you_mean(key, allowed, listed=len(allowed))}")
 
     def fail(self, key: str, message: str):
         raise CatalogError(f"{shown_path(self.path)}: {shown_key(key)}: {message}")
@@ -397,7 +397,9 @@ class _Reader:
     def check_keys(self, entry: dict, allowed: Iterable[str], where: str, text_keys=_TEXT_KEYS):
         extra = set(entry) - set(allowed) - set(text_keys)
         if extra:
-            self.fail(f"{where}.{sorted(extra)[0]}", "unknown key")
+            key = sorted(extra)[0]
+            keys = [*allowed, *text_keys]
+            self.fail(f"{where}.{key}", f"unknown key; {did_you_mean(key, keys, listed=len(keys))}")
 
     def entry_source(self, entry: dict, where: str) -> Source:
         if "source" not in entry:
@@ -574,7 +576,8 @@ class _Reader:
                 self.fail(f"{where}.{missing[0]}", "missing")
             extra = set(t) - set(keys) - {"load_examples"}
             if extra:
-                self.fail(f"{where}.{sorted(extra)[0]}", "unknown key")
+                key = sorted(extra)[0]
+                self.fail(f"{where}.{key}", f"unknown key; {did_you_mean(key, [*keys, 'load_examples'], listed=99)}")
 
             def grid(value, shape, key):
                 ok = isinstance(value, list) and len(value) == shape[0]
@@ -678,11 +681,8 @@ class Catalog:
         names = [v.name for v in table.values()]
         if aliases:
             names += [v.profile for v in table.values() if isinstance(v, BeltProfile)]
-        close = []
-        if len(name) <= MAX_NAME:      # difflib on a very long text would only be slow
-            close = difflib.get_close_matches(name, names, n=3, cutoff=0.5)
-            close = close or difflib.get_close_matches(name.upper(), [n.upper() for n in names], n=3, cutoff=0.5)
-        hint = f"; did you mean {', '.join(close)}?" if close else ""
+        hint = did_you_mean(name, names, listed=0) if len(name) <= MAX_NAME else ""
+        hint = f"; {hint}" if hint else ""
         raise UnknownNameError(
             f"unknown {what} {quote(name)}{hint} (`beltcalc catalog list` lists them)", param=param
         )
@@ -824,8 +824,8 @@ def load_scene(ref: str, command: str | None = None) -> Scene:
         path = builtin_dir() / "scenes" / f"{ref}.toml"
         if not exists(path):
             known = scene_names(command)
-            close = difflib.get_close_matches(ref, known, n=3, cutoff=0.4) if len(ref) <= MAX_NAME else []
-            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            hint = did_you_mean(ref, known, listed=0) if len(ref) <= MAX_NAME else ""
+            hint = f"; {hint}" if hint else ""
             raise UnknownNameError(f"unknown scene {quote(ref)}{hint} (built-in: {', '.join(known)}; "
                                    "or give a .toml path)", param="scene")
     reader = _Reader(path, allowed=("source", "scene", "parameters"))

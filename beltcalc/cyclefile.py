@@ -36,7 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from beltcalc.catalogs import read_toml
-from beltcalc.errors import CatalogError
+from beltcalc.errors import CatalogError, did_you_mean
 from beltcalc.sizing import MoveSpec
 from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
 
@@ -70,13 +70,13 @@ def load_cycle(path: str | Path) -> CycleFile:
 
     extra = set(data) - {"cycle", "segment", "source"}
     if extra:
-        fail(sorted(extra)[0], "unknown top-level key (allowed: cycle, segment, source)")
+        fail(sorted(extra)[0], f"unknown top-level key; {did_you_mean(sorted(extra)[0], ('cycle', 'segment', 'source'))}")
     head = data.get("cycle", {})
     if not isinstance(head, dict):
         fail("cycle", "must be a table")
     extra = set(head) - _CYCLE_KEYS
     if extra:
-        fail(f"cycle.{sorted(extra)[0]}", f"unknown key (allowed: {', '.join(sorted(_CYCLE_KEYS))})")
+        fail(f"cycle.{sorted(extra)[0]}", f"unknown key; {did_you_mean(sorted(extra)[0], sorted(_CYCLE_KEYS))}")
     segs = data.get("segment")
     if not isinstance(segs, list) or not segs or not all(isinstance(s, dict) for s in segs):
         fail("segment", "a cycle needs one or more [[segment]] tables")
@@ -115,7 +115,7 @@ def _segment(e: dict, fail, quantity, defaults: dict) -> MoveSpec:
     unit)`` reads a value; ``defaults``: speed, accel, jerk of the moves that give none."""
     extra = set(e) - _SEGMENT_KEYS
     if extra:
-        fail(sorted(extra)[0], f"unknown key (allowed: {', '.join(sorted(_SEGMENT_KEYS))})")
+        fail(sorted(extra)[0], f"unknown key; {did_you_mean(sorted(extra)[0], sorted(_SEGMENT_KEYS), listed=99)}")
     kind = e.get("kind")
     if kind not in ("move", "dwell"):
         fail("kind", f"{kind!r}; use \"move\" or \"dwell\"")

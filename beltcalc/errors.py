@@ -147,6 +147,53 @@ def require_range(
     raise InputError(f"{value:g}{u} is not allowed; it must be {allowed}", param=param)
 
 
+MAX_CLOSE_TEXT = 200         # a longer name gets no closest names (difflib on it would only be slow)
+
+
+def closest(name: str, names: Iterable[str], n: int = 3) -> list[str]:
+    """The ``n`` names of ``names`` nearest to ``name``, nearest first: difflib's similarity
+    ratio (``difflib.get_close_matches``), case ignored. Always ``n`` of them where there are
+    that many: the three closest are offered even when none is close.
+
+    >>> closest("C5", ["J1", "C1", "C4", "d1", "U12", "t_end"])
+    ['C4', 'C1', 'U12']
+    >>> closest("sgm7j-06", ["SGM7J-06A", "SGM7J-08A", "SGMAH-04A", "SGM7J-04A"])
+    ['SGM7J-06A', 'SGM7J-08A', 'SGM7J-04A']
+    """
+    import difflib
+
+    if not isinstance(name, str) or len(name) > MAX_CLOSE_TEXT:
+        return []
+    folded: dict[str, str] = {}
+    for known in names:
+        folded.setdefault(str(known).lower(), str(known))
+    return [folded[m] for m in difflib.get_close_matches(name.lower(), list(folded), n=n, cutoff=0.0)]
+
+
+def did_you_mean(name: str, names: Iterable[str], listed: int = 12) -> str:
+    """The one hint of every unknown-name message: ``"did you mean a, b, c?"`` with the three
+    closest of ``names`` (:func:`closest`), then, unless ``listed`` is 0 or those are all,
+    every name in brackets where there are at most ``listed``, else how many there are.
+    ``""`` when there are none.
+
+    >>> did_you_mean("C5", ["J1", "C1", "C4", "d1", "U12"])
+    'did you mean C4, C1, U12? (one of J1, C1, C4, d1, U12)'
+    >>> did_you_mean("uper.pretension", [f"e{k}.x" for k in range(70)] + ["upper.pretension"])
+    'did you mean upper.pretension, e9.x, e8.x? (71 names)'
+    >>> did_you_mean("AT11", ["BRECO-AT10", "AT10", "AT5", "T20"], listed=0)
+    'did you mean AT10, AT5, BRECO-AT10?'
+    """
+    names = list(dict.fromkeys(str(n) for n in names))
+    if not names:
+        return ""
+    near = closest(name, names)
+    hint = f"did you mean {', '.join(near)}?" if near else ""
+    if listed and len(names) > len(near):      # the three are not all there is
+        listing = f"one of {', '.join(names)}" if len(names) <= listed else f"{len(names)} names"
+        hint = f"{hint} ({listing})" if hint else f"({listing})"
+    return hint
+
+
 FLOAT_MAX = "1e308"          # how a message says the float range
 
 

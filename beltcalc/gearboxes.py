@@ -31,7 +31,8 @@ from typing import Iterable
 
 from beltcalc.catalogs import _Reader, builtin_dir
 from beltcalc.dutycycle import Gearbox
-from beltcalc.errors import UnknownNameError
+from beltcalc.errors import UnknownNameError, did_you_mean
+from beltcalc.units import quote
 
 _KEYS = {"ratio": "", "J": "kg*m^2", "efficiency": "", "efficiency_back": "", "n_max_in": "rad/s",
          "T_rated_out": "N*m", "T_peak_out": "N*m"}
@@ -69,5 +70,8 @@ def gearbox(name: str, extra: Iterable[str | Path] = ()) -> Gearbox:
     table = load_gearboxes(extra)
     if name.strip().lower() in table:
         return table[name.strip().lower()]
-    known = ", ".join(sorted(g.name for g in table.values())) or "none (give `gearbox_catalog`)"
-    raise UnknownNameError(f"unknown gearbox {name!r}; the gearbox catalogs have {known}", param="gearbox")
+    known = sorted(g.name for g in table.values())
+    if not known:
+        raise UnknownNameError(f"unknown gearbox {quote(name)}; the gearbox catalogs have none "
+                               "(give `gearbox_catalog`)", param="gearbox")
+    raise UnknownNameError(f"unknown gearbox {quote(name)}; {did_you_mean(name, known)}", param="gearbox")

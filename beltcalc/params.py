@@ -96,15 +96,15 @@ def resolve(scene, params: Sequence[Param], given: Mapping[str, object] | None =
     :class:`~beltcalc.errors.CatalogError` naming the scene file and the key (a missing
     one also names the parameter, ``scope="scene"``: it may be given instead).
     """
-    from beltcalc.errors import CatalogError
+    from beltcalc.errors import CatalogError, did_you_mean
     from beltcalc.units import QuantityError
 
     given = given or {}
     known = {p.name for p in params}
     for key in scene.values:
         if key not in known:
-            raise CatalogError(f"{scene.source.path}: parameters.{key}: not a parameter of this scene "
-                               f"(known: {', '.join(sorted(known))})")
+            raise CatalogError(f"{scene.source.path}: parameters.{key}: not a parameter of this scene; "
+                               + did_you_mean(key, [p.name for p in params]))
     out = {}
     for p in params:
         if given.get(p.name) is not None:
@@ -138,14 +138,16 @@ def parse_assignments(params: Sequence[Param], items: Iterable[str]) -> dict[str
     beltcalc.errors.UsageError: set: 'C4=190': C4 needs a unit, e.g. 'C4=190 N*m/rad'
     """
     from beltcalc.errors import UsageError
-    from beltcalc.units import QuantityError, quote
+    from beltcalc.units import QuantityError, example_unit, quote
 
     by_name = {p.name: p for p in params}
     out = {}
     for item in items:
         name, sep, text = item.partition("=")
-        if not sep or name not in by_name:
-            raise UsageError(f"{quote(item)}: use NAME=QUANTITY with {_names_hint(name, list(by_name))}",
+        if not sep:
+            raise UsageError(f"{quote(item)}: use NAME=QUANTITY; {_names_hint(name, list(by_name))}", param="set")
+        if name not in by_name:
+            raise UsageError(f"{quote(item)}: {quote(name)} is not a value here; {_names_hint(name, list(by_name))}",
                              param="set")
         param = by_name[name]
         try:
@@ -153,8 +155,8 @@ def parse_assignments(params: Sequence[Param], items: Iterable[str]) -> dict[str
         except (QuantityError, ValueError) as exc:
             message = str(exc)
             if _bare_number(text) and param.unit not in (None, "", "int"):
-                unit = param.unit.split("|")[0]
-                message = f"{name} needs a unit, e.g. '{name}={text.strip()} {unit}'"
+                examples = " or ".join(f"'{name}={text.strip()} {example_unit(u)}'" for u in param.unit.split("|"))
+                message = f"{name} needs a unit, e.g. {examples}"
             raise UsageError(f"{quote(item)}: {message}", param="set") from None
     return out
 
@@ -183,18 +185,15 @@ def linspace(start: float, stop: float, n: int) -> list[float]:
 
 
 def _names_hint(name: str, names: list[str]) -> str:
-    """``NAME one of a, b, c`` for a few names; for many (a drive file's ELEMENT.KEY values)
-    the closest ones and how many there are.
+    """The three names closest to ``name`` and how many there are, or all of them where they
+    are few (:func:`~beltcalc.errors.did_you_mean`).
 
     >>> _names_hint("uper.pretension", [f"e{k}.x" for k in range(70)] + ["upper.pretension"])
-    'NAME one of the 71 values here; closest: upper.pretension'
+    'did you mean upper.pretension, e9.x, e8.x? (71 names)'
     """
-    if len(names) <= 60:
-        return f"NAME one of {', '.join(names)}"
-    import difflib
+    from beltcalc.errors import did_you_mean
 
-    close = difflib.get_close_matches(name, names, n=4, cutoff=0.5)
-    return f"NAME one of the {len(names)} values here" + (f"; closest: {', '.join(close)}" if close else "")
+    return did_you_mean(name, names)
 
 
 def sweep_points(params: Sequence[Param], text: str, example: str = "") -> tuple[str, list[float]]:
@@ -215,7 +214,7 @@ def sweep_points(params: Sequence[Param], text: str, example: str = "") -> tuple
     beltcalc.errors.UsageError: sweep: 'C4=50:310:3': C4 needs units on START and STOP, e.g. 'C4=50N*m/rad:310N*m/rad:3'
     """
     from beltcalc.errors import UsageError
-    from beltcalc.units import quote
+    from beltcalc.units import example_unit, quote
 
     name, sep, rng = text.partition("=")
     parts = rng.split(":")
@@ -231,8 +230,9 @@ def sweep_points(params: Sequence[Param], text: str, example: str = "") -> tuple
     if not 1 <= n <= 10000:
         raise UsageError(f"{quote(text)}: N must be 1..10000", param="sweep")
     if param is not None and param.unit not in ("", "int") and any(_bare_number(p) for p in parts[:2]):
+        unit = example_unit(param.unit)
         raise UsageError(f"{quote(text)}: {name} needs units on START and STOP, e.g. "
-                         f"'{name}={parts[0].strip()}{param.unit}:{parts[1].strip()}{param.unit}:{parts[2].strip()}'",
+                         f"'{name}={parts[0].strip()}{unit}:{parts[1].strip()}{unit}:{parts[2].strip()}'",
                          param="sweep")
     bounds = []
     for part in parts[:2]:

@@ -68,10 +68,26 @@ _EXPONENT = re.compile(r"\s*\(?\s*[+-]?\d{1,2}(?:\.\d{1,2})?(?![0-9.eE])\s*\)?")
 _LONE_NUMBER = re.compile(r"(?<![A-Za-z0-9_.\u00b5\u03bc])\d")
 
 
+#: The unit a value of an SI unit is written in where that is not the SI unit itself (a belt
+#: span of 600 is 600 mm, not 600 m; a speed of 3000 is 3000 rpm): the unit of the examples in
+#: the messages about a bare number or a wrong dimension, where the caller names no display unit.
+EXAMPLE_UNITS = {"m": "mm", "rad/s": "rpm", "rad": "deg"}
+
+
+def example_unit(si_unit: str, display: str | None = None) -> str:
+    """The unit a message's example writes a value of ``si_unit`` in: ``display`` (the unit
+    the option or key is shown in) if given, else :data:`EXAMPLE_UNITS`' or the SI unit.
+
+    >>> example_unit("m"), example_unit("m", "in"), example_unit("N*m/rad")
+    ('mm', 'in', 'N*m/rad')
+    """
+    return display or EXAMPLE_UNITS.get(si_unit, si_unit)
+
+
 def _example(si_unit: str, display: str | None, number: str = "50") -> str:
     if si_unit in ("", "1"):
         return "a plain number, e.g. '0.2'"
-    return f"a number and a unit, e.g. '{number} {display or si_unit}'"
+    return f"a number and a unit, e.g. '{number} {example_unit(si_unit, display)}'"
 
 
 def _unit_text(unit: str, text: str, example: str) -> str:
@@ -149,7 +165,7 @@ def parse_quantity(text: str | float, si_unit: str, display: str | None = None) 
 
     A bare number is accepted only for dimensionless quantities (``si_unit`` "" or "1").
     ``display`` is the unit the caller shows the value in (``mm`` for a width): the
-    examples in messages use it. The text is one number and a unit: pint reads only the
+    examples in messages use it (by default :func:`example_unit`'s). The text is one number and a unit: pint reads only the
     unit, so an expression (``9**9**9 kg``) is refused, not computed; at most
     :data:`MAX_TEXT` characters.
 
@@ -171,7 +187,7 @@ def parse_quantity(text: str | float, si_unit: str, display: str | None = None) 
     if value is not None:
         return value
     reg = ureg()
-    shown = display or si_unit
+    shown = example_unit(si_unit, display)
     if isinstance(text, (int, float)):
         value = float(text)
         q = reg.Quantity(value, "" if dimensionless else si_unit)
@@ -246,6 +262,22 @@ def unit_problem(unit: str, si_unit: str) -> str:
     return ""
 
 
+def is_unit(text: str) -> bool:
+    """Whether ``text`` is a unit alone (``kW``, ``N*m/rad``), read as :func:`parse_quantity`
+    reads one: no number, nothing computed.
+
+    >>> is_unit("kW"), is_unit("N*m/rad"), is_unit("3"), is_unit("--t-end"), is_unit("sewing")
+    (True, True, False, False, False)
+    """
+    if not isinstance(text, str) or not text.strip() or len(text) > MAX_TEXT or _LEADING.match(text):
+        return False
+    try:
+        ureg().parse_units(_unit_text(text, text, "a unit"))
+    except Exception:  # pint raises many types for bad text; QuantityError for an expression
+        return False
+    return True
+
+
 def parse_quantity_any(text: str | float, si_units: tuple[str, ...]) -> tuple[float, str]:
     """Read ``text`` as a quantity of any one of the dimensions of ``si_units``.
 
@@ -262,10 +294,14 @@ def parse_quantity_any(text: str | float, si_units: tuple[str, ...]) -> tuple[fl
             return parse_quantity(text, unit), unit
         except QuantityError as exc:
             problems.append(exc)
+    if all(" needs a unit" in str(p) for p in problems):      # a bare number: either unit will do
+        number = text if isinstance(text, str) else f"{text:g}"
+        raise QuantityError(f"{quote(text)} needs a unit, e.g. "
+                            + " or ".join(f"'{number.strip()} {example_unit(u)}'" for u in si_units))
     if any(" is a" in str(p) or " is an" in str(p) for p in problems):
-        names = " or ".join(dimension_name(u) for u in si_units)
+        names = " nor ".join(dimension_name(u) for u in si_units)
         raise QuantityError(f"{quote(text)} is neither {names}; give e.g. "
-                            + " or ".join(f"'1 {u}'" for u in si_units))
+                            + " or ".join(f"'1 {example_unit(u)}'" for u in si_units))
     raise problems[0]
 
 

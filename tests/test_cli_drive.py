@@ -154,9 +154,9 @@ max_accel = "400 rad/s^2"
 
 
 @pytest.mark.parametrize("args, code, fragments", [
-    (("nope",), 2, ["drive 'nope' is neither a file nor a built-in drive (conveyor"]),
+    (("nope",), 2, ["drive 'nope' is neither a file nor a built-in drive; did you mean", "(one of conveyor"]),
     (("nope.toml",), 2, ["drive file 'nope.toml': no such file"]),
-    (("conveyor", "--set", "upper.pretensio=5N"), 2, ["--set", "closest: upper.pretension"]),
+    (("conveyor", "--set", "upper.pretensio=5N"), 2, ["--set", "did you mean upper.pretension, "]),
     (("conveyor", "--set", "upper.pretension=5kg"), 2, ["--set", "'5kg' is a mass"]),
     (("conveyor", "--set", "upper.pretension=-5N"), 1, ["--set upper.pretension: -5 N is not allowed; it must be >= 0 N"]),
     (("conveyor", "--set", "jaw.stiffness=5N/m"), 2, ["--set", "'5N/m'"]),

@@ -119,7 +119,7 @@ inertia = "2 kg*m^2"
     ('[[node]]\nname = "a"\ninertia = "1 kg*m^2"\n', r"node 'a': name: repeats the name of a node"),
     ('[[load]]\nnode = "a"\ntorque = "5 N*m"\nfrequency = "3 Hz"\norder = 2\n',
      r"load 'load1': order: give frequency .* or order .*, not both"),
-    ('[[motor]]\nkind = "diesel"\nnode = "a"\n', r"motor 'motor1': kind: 'diesel'; use one of induction"),
+    ('[[motor]]\nkind = "diesel"\nnode = "a"\n', r"motor 'motor1': kind: 'diesel' is not a kind; did you mean .*\(one of induction, prescribed"),
     ('[[chain_strand]]\nfrom = "a"\nto = "b"\nchain = "10B-1"\nlength = "1 m"\nstiffness = "1 MN"\n',
      r"chain_strand 'chain_strand1': from: node 'a' has no pitch diameter"),
     ('[[node]]\nname = "p"\ninertia = "1 kg*m^2"\npitch_diameter = "100 mm"\n'

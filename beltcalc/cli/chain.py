@@ -12,7 +12,7 @@ from beltcalc.cli.output import (Row, console, dumps, emit_warnings, print_table
 
 
 @click.command(context_settings={"help_option_names": ["-h", "--help"]})
-@quantity_option("--power", si_unit="W", help="Power on the small sprocket [default: 90 hp when --torque is not given].")
+@quantity_option("--power", si_unit="W", display="kW", help="Power on the small sprocket [default: 90 hp when --torque is not given].")
 @quantity_option("--torque", si_unit="N*m", help="Torque on the small sprocket, instead of --power.")
 @quantity_option("--speed", si_unit="rad/s", display="rpm", default="300 rpm", help="Speed of the small sprocket.")
 @click.option("--teeth", type=click.IntRange(min=3), default=17, show_default=True, help="Teeth of the small sprocket.")

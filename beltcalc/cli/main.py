@@ -68,6 +68,7 @@ SUMMARIES = {
 
 
 SCENE_OPTION = "beltcalc.scene_option"   # ctx.meta key: scene parameter name -> its option text
+ARGV = "beltcalc.argv"                   # ctx.meta key: the words of the command line, as typed
 OPTION_NAMES = "beltcalc.option_names"   # ctx.meta key: {library parameter: its option} where they differ
 
 
@@ -92,6 +93,23 @@ def error_line(exc: BeltcalcError, meta: dict) -> str:
     if isinstance(exc, UsageError):
         return f"Invalid value for {to_option(exc.param)}: {message}"
     return f"{to_option(exc.param)}: {message}"
+
+
+def _extra_unit_hint(message: str, argv: list[str]) -> str:
+    """Where click found an extra word on the command line that is a unit after an option's
+    value (``--set C4=190 N*m/rad``, ``--t-end 2 s``): the shell split a value typed with a
+    space; say to quote it."""
+    from beltcalc.units import is_unit
+
+    if not message.startswith("Got unexpected extra argument"):
+        return ""
+    for i, word in enumerate(argv):
+        if i >= 2 and argv[i - 2].startswith("-") and not argv[i - 1].startswith("-") and is_unit(word) \
+                and f"({word}" in message:
+            opt, value = argv[i - 2].partition("=")[0], argv[i - 1]
+            return (f": '{value} {word}' with a space is two words to the shell; "
+                    f"quote it: {opt} \"{value} {word}\"")
+    return ""
 
 
 MAX_MESSAGE = 2000   # characters of an error line
@@ -175,6 +193,12 @@ class BeltcalcGroup(click.Group):
         _keep_freed_memory()
         return command
 
+    def parse_args(self, ctx, args):
+        # the words as typed: an option's value that a space split in two ('--power 3 kW') is
+        # told apart from a number with no unit (beltcalc.cli.options.QuantityParam)
+        ctx.meta[ARGV] = list(args)
+        return super().parse_args(ctx, args)
+
     def make_context(self, info_name, args, parent=None, **extra):
         try:
             return super().make_context(info_name, args, parent, **extra)
@@ -233,6 +257,8 @@ class BeltcalcGroup(click.Group):
                 from beltcalc.cli.output import no_inf
 
                 message = no_inf(message)
+            elif isinstance(exc, click.UsageError) and exc.ctx is not None:
+                message += _extra_unit_hint(message, exc.ctx.meta.get(ARGV, []))
             click.echo(f"Error: {one_line(message)}", err=True)
             code = exc.exit_code
         except click.exceptions.Abort:     # an interrupt click saw first

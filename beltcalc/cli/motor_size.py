@@ -10,7 +10,7 @@ from beltcalc.cli.options import OutputPath, catalog_option, output_options, qua
 from beltcalc.cli.contract import checks_json, echo_inputs, entry, fmt, options_text, out_of_range, quantity, shown
 from beltcalc.cli.output import (Row, console, dumps, emit_warnings, print_table, progress,
                                  require_matplotlib, strict_option, table_csv, write_atomic, wrote)
-from beltcalc.errors import InputError, UnknownNameError
+from beltcalc.errors import InputError, UnknownNameError, did_you_mean
 from beltcalc.sizing import PARAMS
 
 
@@ -313,13 +313,15 @@ def _check_combinations(given, jerk, move_time, cycle_option, sweep, incline, co
 def _motor_list(cat, files: str | None):
     from pathlib import Path
 
+    from beltcalc.units import quote
+
     motors = list(cat.motors.values())
     if files is None:
         return motors
     stems = sorted({Path(m.source.path).stem for m in motors})
     picked = [m for m in motors if Path(m.source.path).stem.lower() == files.lower()]
     if not picked:
-        raise UnknownNameError(f"unknown motor catalog {files!r}; the motor catalogs are {', '.join(stems)}",
+        raise UnknownNameError(f"unknown motor catalog {quote(files)}; {did_you_mean(files, stems)}",
                                param="motors")
     return picked
 

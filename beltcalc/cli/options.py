@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 
 from beltcalc.cli.main import option_name
-from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
+from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any, quote
 
 
 class QuantityParam(click.ParamType):
@@ -42,7 +42,39 @@ class QuantityParam(click.ParamType):
                 return parse_quantity_any(value, self.alternatives)
             return parse_quantity(value, self.si_unit, self.display)
         except QuantityError as exc:
-            self.fail(str(exc), param, ctx)
+            message = str(exc)
+            if "needs a unit" in message and param is not None and param.opts:
+                message = self.how_to_type(value, message, param.opts[0], ctx)
+            self.fail(message, param, ctx)
+
+    def how_to_type(self, value: str, message: str, opt: str, ctx) -> str:
+        """``message`` about the bare number ``value`` with how to type the unit with it: where
+        the word after it on the command line is a unit of this option, the shell split
+        ``--power 3 kW`` in two (say so); else how to write a value with its unit, with or
+        without a space."""
+        from beltcalc.cli.main import ARGV
+        from beltcalc.units import example_unit, unit_problem
+
+        unit = self.display or example_unit((self.alternatives or (self.si_unit,))[0])
+        after = _word_after(ctx.meta.get(ARGV, []) if ctx is not None else [], opt, value)
+        if after and not after.startswith("-") and any(
+                unit_problem(after, u) == "" for u in (self.alternatives or (self.si_unit,))):
+            number = value.strip()
+            return (f"{quote(value)} needs a unit: '{number} {after}' with a space is two words to the shell; "
+                    f"write {opt} {number}{after} or quote it: {opt} \"{number} {after}\"")
+        return (f"{message} (no space: {opt} {value.strip()}{unit.replace(' ', '*')}; "
+                f"or quote it: {opt} \"{value.strip()} {unit}\")")
+
+
+def _word_after(argv: list[str], opt: str, value: str) -> str | None:
+    """The word after ``opt value`` (or ``opt=value``) on the command line ``argv``; None
+    where there is none."""
+    for i, word in enumerate(argv):
+        if word == opt and i + 2 < len(argv) and argv[i + 1] == value:
+            return argv[i + 2]
+        if word == f"{opt}={value}" and i + 1 < len(argv):
+            return argv[i + 1]
+    return None
 
 
 class Tolerance(click.FloatRange):
@@ -103,7 +135,9 @@ class OutputPath(click.ParamType):
     """A file to write, checked before any work: its name not too long for the file system;
     not a folder; a link followed to its target; a new file or one replaced in a folder that
     exists and is writable, a file written in place (a FIFO, a device, a file with hard
-    links) writable itself (:func:`beltcalc.cli.writer.resolve_target`)."""
+    links) writable itself (:func:`beltcalc.cli.writer.resolve_target`). A plot's file (an
+    option whose name holds ``plot``) ends in ``.png``, ``.pdf`` or ``.svg``, the format it is
+    written in (:func:`beltcalc.cli.output.plot_format`)."""
 
     name = "path"
 
@@ -153,6 +187,13 @@ class OutputPath(click.ParamType):
                 self.fail(f"{quote(value, 200)} exists and is not writable", param, ctx)
         except OSError as exc:   # a folder name too long, a loop of links, ...
             self.fail(f"{quote(value, 200)}: {exc.strerror or exc}", param, ctx)
+        if param is not None and "plot" in (param.name or ""):
+            from beltcalc.cli.output import plot_format
+
+            try:
+                plot_format(path)          # the suffix names the format: .png, .pdf or .svg
+            except ValueError as exc:
+                self.fail(str(exc), param, ctx)
         return path
 
 

@@ -26,7 +26,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from beltcalc.catalogs import read_toml, shown_path
-from beltcalc.errors import BeltcalcError, CatalogError, FloatRangeError, InputError, blame, float_range
+from beltcalc.errors import BeltcalcError, CatalogError, FloatRangeError, InputError, blame, did_you_mean, float_range
 
 SECTIONS = ("drive", "node", "coupling", "shaft", "gear", "belt_span", "chain_strand", "motor", "load")
 
@@ -294,8 +294,8 @@ class DriveFile:
             data = _read_toml(self.path)
         for key in data:
             if key not in SECTIONS:
-                self.fail(key, "", f"unknown section [{key}] / [[{key}]]; a drive file has "
-                                   + ", ".join(SECTIONS))
+                self.fail(key, "", f"unknown section [{key}] / [[{key}]]; "
+                                   + did_you_mean(str(key), SECTIONS, listed=len(SECTIONS)))
         head = data.get("drive", {})
         if not isinstance(head, dict):
             self.fail("drive", "", "[drive] must be a table")
@@ -358,13 +358,13 @@ class DriveFile:
         keys = KEYS[entry.section]
         for key in entry.raw:
             if key not in keys:
-                problems.append((entry.where, key, f"unknown key; a {entry.section} has {', '.join(keys)}"))
+                problems.append((entry.where, key, f"unknown key; {did_you_mean(str(key), keys, listed=len(keys))}"))
         for key, spec in keys.items():
             if spec.required and key not in entry.raw and not (key == "name" and entry.section != "node"):
                 problems.append((entry.where, key, f"missing ({spec.help})"))
         kind = entry.raw.get("kind") if entry.section == "motor" else None
         if kind is not None and kind not in KINDS:
-            problems.append((entry.where, "kind", f"{kind!r}; use one of {', '.join(KINDS)}"))
+            problems.append((entry.where, "kind", f"{kind!r} is not a kind; {did_you_mean(str(kind), KINDS)}"))
         elif kind is not None:
             allowed = KIND_KEYS[kind]
             for key in entry.raw:
@@ -480,7 +480,8 @@ class DriveFile:
         known = self._known_names
         for name in values:
             if name not in known:
-                raise InputError(f"{name!r} is not a value of this drive file ({self.path.name})", param=name,
+                raise InputError(f"{name!r} is not a value of this drive file ({self.path.name}); "
+                                 + did_you_mean(str(name), [p.name for p in self.params()]), param=name,
                                  scope="scene")
         return values
 
@@ -624,8 +625,8 @@ class _Builder:
         if not isinstance(name, str):
             self.f.fail(e.where, key, "must name a node")
         if name not in self.node_entries:
-            close = ", ".join(sorted(self.node_entries))
-            self.f.fail(e.where, key, f"{name!r} is not a node of this drive (nodes: {close})")
+            self.f.fail(e.where, key, f"{name!r} is not a node of this drive; "
+                                      + did_you_mean(name, sorted(self.node_entries)))
         return name
 
     def between(self, e: Entry, count: tuple[int, ...]) -> list[str]:
@@ -634,8 +635,8 @@ class _Builder:
             self.f.fail(e.where, "between", f"must list {' or '.join(map(str, count))} node names")
         for name in ends:
             if name not in self.node_entries:
-                self.f.fail(e.where, "between", f"{name!r} is not a node of this drive "
-                                                f"(nodes: {', '.join(sorted(self.node_entries))})")
+                self.f.fail(e.where, "between", f"{name!r} is not a node of this drive; "
+                                                + did_you_mean(name, sorted(self.node_entries)))
         return ends
 
     def head_text(self, key: str):
@@ -874,7 +875,7 @@ class _Builder:
 
         kind, node = self.need(e, "kind"), self.node_name(e, "node")
         if kind not in KINDS:           # (the file's own kind is checked on reading; this is a kind set)
-            self.f.fail(e.where, "kind", f"{kind!r}; use one of {', '.join(KINDS)}")
+            self.f.fail(e.where, "kind", f"{kind!r} is not a kind; {did_you_mean(str(kind), KINDS)}")
         if kind == "induction":
             speed = self.get(e, "rated_speed")
             torque = self.get(e, "rated_torque")
@@ -993,7 +994,7 @@ def _convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
     """A raw TOML value as its SI value (ValueError with the reason otherwise). A bare number
     is a plain number; for a quantity of a dimension it is refused (a file writes the unit),
     unless ``si_numbers`` (a drive built in code, in SI)."""
-    from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
+    from beltcalc.units import QuantityError, example_unit, parse_quantity, parse_quantity_any
 
     unit = spec.unit
     if unit == "text":
@@ -1021,7 +1022,7 @@ def _convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
             raise ValueError("the times must rise (a time may repeat for a jump)")
         return tuple(out)
     if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
-        raise ValueError(f"must be a quantity text such as '5 {unit.split('|')[0]}', not {raw!r}")
+        raise ValueError(f"must be a quantity text such as '5 {example_unit(unit.split('|')[0])}', not {raw!r}")
     if isinstance(raw, str) and unit in ("", "1"):
         raise ValueError(f"must be a plain number, not the text {raw!r}: write it without quotes "
                          "(ratios, factors and slips are numbers, docs/drive_files.md)")
@@ -1030,7 +1031,8 @@ def _convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
             value = float(raw)
             return (value, unit.split("|")[0]) if keep_unit and "|" in unit else value
         example = raw if isinstance(raw, int) or math.isfinite(raw) else 1.0    # "inf s" is refused too
-        raise ValueError(f"{raw!r} needs its unit: write it as a text, e.g. \"{example:g} {unit.split('|')[0]}\"")
+        texts = " or ".join(f'"{example:g} {example_unit(u)}"' for u in unit.split("|"))
+        raise ValueError(f"{raw!r} needs its unit: write it as a text, e.g. {texts}")
     try:
         if isinstance(raw, str):
             got = _quantity(raw, unit)
@@ -1180,8 +1182,8 @@ def drive_path(ref: str | Path) -> Path:
     builtin = builtin_dir() / "drives" / f"{ref}.toml"
     if exists(builtin):
         return builtin
-    raise UnknownNameError(f"drive {quote(ref)} is neither a file nor a built-in drive "
-                           f"({', '.join(drive_names())})")
+    raise UnknownNameError(f"drive {quote(ref)} is neither a file nor a built-in drive; "
+                           + did_you_mean(str(ref), drive_names()))
 
 
 def load_drive(ref: str | Path, catalog=None, **values) -> Drive:

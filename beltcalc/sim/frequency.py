@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from beltcalc.errors import InputError
+from beltcalc.errors import InputError, did_you_mean
 
 HESSENBERG_SIZE = 150        # states from which H(jw) uses one Hessenberg reduction
 
@@ -148,7 +148,7 @@ def input_column(net, name: str) -> np.ndarray:
             return col
     known = [f"load:{nd.name}" for nd in net.nodes if nd.name not in net._massless]
     known += [f"supply:{m.name}" for m in net.motors]
-    raise InputError(f"{name!r} is not an input of this drive; inputs: {', '.join(known)}", param="input")
+    raise InputError(f"{name!r} is not an input of this drive; {did_you_mean(str(name), known)}", param="input")
 
 
 def output_row(net, name: str, rows: dict | None = None) -> tuple[np.ndarray, int, str]:
@@ -172,7 +172,7 @@ def output_row(net, name: str, rows: dict | None = None) -> tuple[np.ndarray, in
         _, force = net.strand_rows()
         return force[strands[name], :net.size].copy(), 0, "N"
     known = list(rows) + [f"accel_{nd.name}" for nd in net.nodes] + list(strands)
-    raise InputError(f"{name!r} is not an output of this drive; outputs: {', '.join(known)}", param="output")
+    raise InputError(f"{name!r} is not an output of this drive; {did_you_mean(str(name), known)}", param="output")
 
 
 def _unit_of(net, name: str) -> str:

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from beltcalc.errors import FloatRangeError, InputError, require_positive
+from beltcalc.errors import FloatRangeError, InputError, did_you_mean, require_positive
 from beltcalc.sim.elements import (Coupling, Element, Gear, Inertia, InductionMotor, Load, Points, Prescribed,
                                    SpeedLoop, Strand, check_gear_ratio, check_points, piece, piecewise)
 
@@ -269,8 +269,8 @@ class Network:
         for g in self.gears:
             for end in (g.a, g.b):
                 if end not in index:
-                    raise InputError(f"gear {g.name or g.a + '-' + g.b} names an unknown node {end!r}",
-                                     param="network")
+                    raise InputError(f"gear {g.name or g.a + '-' + g.b} names an unknown node {end!r}; "
+                                     + did_you_mean(str(end), [nd.name for nd in self.nodes]), param="network")
             check_gear_ratio(g.name, g.ratio)
             (ra, fa), (rb, fb) = find(index[g.a]), find(index[g.b])
             # phi_a = fa R_a, phi_b = fb R_b, and phi_b = phi_a / ratio
@@ -318,7 +318,8 @@ class Network:
         for c in self.couplings:
             for end in (c.i, c.j):
                 if end is not None and end not in index:
-                    raise InputError(f"element {c.name} names an unknown node {end!r}", param="network")
+                    raise InputError(f"element {c.name} names an unknown node {end!r}; "
+                                     + did_you_mean(str(end), [nd.name for nd in self.nodes]), param="network")
             g = F[index[c.i]] - (c.U * F[index[c.j]] if c.j is not None else 0.0)
             K += c.C * np.outer(g, g)
             D += c.d * np.outer(g, g)
@@ -359,7 +360,8 @@ class Network:
         """Refuse an element that names a node that does not exist."""
         for end in (i, j):
             if end is not None and end not in self._node:
-                raise InputError(f"element {name} names an unknown node {end!r}", param="network")
+                raise InputError(f"element {name} names an unknown node {end!r}; "
+                                 + did_you_mean(str(end), list(self._node)), param="network")
 
     def require_inertia(self, node: str, what: str) -> None:
         """Refuse a load or drive on a node without inertia (it is condensed out)."""

@@ -28,13 +28,16 @@ class Row:
 @dataclass(frozen=True)
 class Section:
     """Rows reported together: ``path`` places them in the JSON (("shafts", "main")),
-    ``group`` prints sections of one group as one table with a row per ``item``."""
+    ``group`` prints sections of one group as one table with a row per ``item``; ``key``
+    names the rows in a sweep's or study's column keys (default: the last part of ``path``;
+    :meth:`beltcalc.sim.scenes.base.Outcome.column_rows`)."""
 
     path: tuple[str, ...]
     title: str
     rows: list[Row]
     group: str = ""
     item: str = ""
+    key: str = ""
 
 
 @dataclass(frozen=True)

@@ -602,7 +602,7 @@ def test_steady_state_flag_skips_the_time_simulation(tmp_path):
     ok(run("--steady-state-only", "--csv", str(path)))
     assert path.read_text().splitlines()[0] == "section,key,value,unit"
     sweep = json.loads(ok(run("--steady-state-only", "--sweep", "C4=50N*m/rad:310N*m/rad:3", "--json")).stdout)
-    col = [c["key"] for c in sweep["columns"]].index("bottom_shaft_speed_amplitude_rad_per_s")
+    col = [c["key"] for c in sweep["columns"]].index("steady_bottom_speed_amplitude_rad_per_s")
     assert [r[col] for r in sweep["rows"]] == pytest.approx([1.8719, 1.8723, 1.8726], abs=2e-4)
     one_error_line(run("--steady-state-only", "--plot", str(tmp_path / "x.png")), 2, "--plot", "--steady-state-only")
     one_error_line(run("--steady-state-only", "--angle-loads"), 1, "no exact steady state")

@@ -80,13 +80,13 @@ def test_wilson_interval():
 
 def test_limits_name_a_column_and_need_its_unit():
     cols = columns_of()
-    lim = parse_limit("main_shaft_speed_mean_rad_per_s>=2000rpm", cols)
+    lim = parse_limit("steady_main_speed_mean_rad_per_s>=2000rpm", cols)
     assert lim.bound == pytest.approx(2000 * 2 * math.pi / 60) and lim.op == ">="
     assert list(lim.fails(np.array([200.0, 210.0, 220.0]))) == [True, False, False]
-    for text, fragment in (("main_shaft_speed_mean_rad_per_s>=200", "needs a unit"),
-                           ("main_shaft_speed_mean>=200rad/s", "closest: main_shaft_speed_mean_rad_per_s"),
-                           ("main_shaft_speed_mean_rad_per_s=200rad/s", "KEY>=VALUE"),
-                           ("main_shaft_speed_mean_rad_per_s>=2N", "")):
+    for text, fragment in (("steady_main_speed_mean_rad_per_s>=200", "needs a unit"),
+                           ("steady_main_speed_mean>=200rad/s", "closest: steady_main_speed_mean_rad_per_s"),
+                           ("steady_main_speed_mean_rad_per_s=200rad/s", "KEY>=VALUE"),
+                           ("steady_main_speed_mean_rad_per_s>=2N", "")):
         with pytest.raises(UsageError) as info:
             parse_limit(text, cols)
         assert info.value.param == "limit" and fragment in info.value.message
@@ -177,7 +177,7 @@ def test_a_linear_output_matches_the_analytic_propagation_at_1e4_runs():
     assert how == "in-process" and summary.runs == 10_000 and summary.errors == 0
     w0 = 2 * math.pi * v["supply_frequency"] / v["pole_pairs"]
     slope = w0 * v["breakdown_slip"] / (2 * v["breakdown_factor"] * v["rated_torque"] * v["U12"] ** 2)
-    e = summary.outputs["main_shaft_speed_mean_rad_per_s"]
+    e = summary.outputs["steady_main_speed_mean_rad_per_s"]
     assert e["mean"] == pytest.approx(steady_speed(dict(v, M3_0=0.1, M5_0=0.012)), rel=1e-4)
     assert e["sd"] == pytest.approx(slope * math.hypot(d3.sd, d5.sd), rel=0.01)
     assert e["p50"] == pytest.approx(e["mean"], rel=1e-4)
@@ -198,7 +198,7 @@ def test_impossible_draws_are_rows_with_their_reason_and_the_study_finishes():
     assert all(r.error.startswith("J1: ") and "must be > 0" in r.error and r.values == {} for r in bad)
     summary, _ = tolerance_study(p, columns_of(), workers=1)
     assert summary.errors == len(bad) and summary.reasons[0][1][0] <= len(bad)
-    assert summary.outputs["main_shaft_speed_mean_rad_per_s"]["n"] == 600 - len(bad)
+    assert summary.outputs["steady_main_speed_mean_rad_per_s"]["n"] == 600 - len(bad)
 
 
 def test_rows_do_not_depend_on_the_chunking_of_the_workers():
@@ -221,7 +221,7 @@ def test_a_grid_is_the_product_of_its_sweeps_and_each_point_its_single_run():
     v = SEWING.values()
     sweep = grid_scene(SEWING, v, [("C4", [100.0, 200.0, 300.0]), ("M3_0", [0.1, 0.12])], CFG, **STEADY)
     assert sweep.points == [(c, m) for c in (100.0, 200.0, 300.0) for m in (0.1, 0.12)]
-    assert sweep.header()[:3] == ["C4_N_m_per_rad", "M3_0_N_m", "main_shaft_speed_mean_rad_per_s"]
+    assert sweep.header()[:3] == ["C4_N_m_per_rad", "M3_0_N_m", "steady_main_speed_mean_rad_per_s"]
     single = run_scene(SEWING, dict(v, C4=300.0, M3_0=0.1), CFG, **STEADY)
     assert sweep.rows()[4][2:] == [c.value for c in single.column_rows()]
     out = sweep.to_dict("sewing")

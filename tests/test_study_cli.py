@@ -31,7 +31,7 @@ def test_a_tolerance_study_as_json_and_its_rows_as_csv(tmp_path):
     assert out["parameters"][0]["distribution"]["sd"] == {"value": pytest.approx(13.0), "unit": "N*m/rad"}
     assert out["inputs"]["C4"] == {"text": "normal(260N*m/rad,5%)", "value": 260.0, "unit": "N*m/rad", "origin": "vary"}
     assert out["inputs"]["J3"]["origin"].startswith("scene")
-    speed = out["outputs"]["main_shaft_speed_mean_rad_per_s"]
+    speed = out["outputs"]["steady_main_speed_mean_rad_per_s"]
     assert speed["unit"] == "rad/s" and speed["n"] == 300
     for stat in ("mean", "sd", "p1", "p5", "p50", "p95", "p99", "min", "max", "nominal"):
         assert speed[stat]["unit"] == "rad/s" and isinstance(speed[stat]["value"], float)
@@ -40,7 +40,7 @@ def test_a_tolerance_study_as_json_and_its_rows_as_csv(tmp_path):
     assert "reservoir" in out["reservoir"]["note"]
     lines = path.read_text().splitlines()
     header = lines[0].split(",")
-    assert header[:3] == ["C4_N_m_per_rad", "M3_0_N_m", "main_shaft_speed_mean_rad_per_s"]
+    assert header[:3] == ["C4_N_m_per_rad", "M3_0_N_m", "steady_main_speed_mean_rad_per_s"]
     assert header[-3:] == ["failed_checks", "warnings", "error"] and len(lines) == 301
     speeds = [float(line.split(",")[2]) for line in lines[1:]]
     assert sum(speeds) / 300 == pytest.approx(speed["mean"]["value"], rel=1e-12)
@@ -55,7 +55,7 @@ def test_a_study_without_spread_gives_the_single_run():
     single = json.loads(ok(run(*SEWING, "--set", "C4=250N*m/rad", "--json")).stdout)
     out = json.loads(ok(run(*SEWING, "--vary", "C4=normal(250N*m/rad,0%)", "--vary", "J3=uniform(0.29e-3kg*m^2,"
                             "0.29e-3kg*m^2)", "--runs", "5", "--json")).stdout)
-    got = out["outputs"]["main_shaft_speed_amplitude_rad_per_s"]
+    got = out["outputs"]["steady_main_speed_amplitude_rad_per_s"]
     want = single["steady_state"]["main_shaft"]["speed_amplitude"]["value"]
     # to rounding, not bit for bit: the study's batched path sums on stacks of matrices, in
     # another order under some BLAS kernels (an sd of 2.5e-16 rad/s under OpenBLAS Haswell);
@@ -85,16 +85,16 @@ def test_failed_runs_are_rows_with_their_reason(tmp_path):
 
 
 def test_a_limit_gives_the_failing_fraction_with_its_confidence_interval(tmp_path):
-    args = (*SEWING, *VARY, "--runs", "400", "--limit", "main_shaft_speed_amplitude_rad_per_s<=1.8636rad/s")
+    args = (*SEWING, *VARY, "--runs", "400", "--limit", "steady_main_speed_amplitude_rad_per_s<=1.8636rad/s")
     result = ok(run(*args, "--json"))
     out = json.loads(result.stdout)
     (lim,) = out["limits"]
-    assert lim["key"] == "main_shaft_speed_amplitude_rad_per_s" and lim["evaluated"] == 400
+    assert lim["key"] == "steady_main_speed_amplitude_rad_per_s" and lim["evaluated"] == 400
     assert 0 < lim["failed"] < 400
     p = lim["failed"] / 400
     assert lim["fraction"]["value"] == pytest.approx(p)
     assert lim["ci95"][0]["value"] < p < lim["ci95"][1]["value"]
-    assert any(w.startswith("limit main_shaft_speed_amplitude_rad_per_s<=1.8636rad/s fails in")
+    assert any(w.startswith("limit steady_main_speed_amplitude_rad_per_s<=1.8636rad/s fails in")
                for w in warnings(result))
     text = ok(run(*args)).stdout
     assert "limits" in text and "95% confidence" in text and "moved most by" in text
@@ -110,7 +110,7 @@ def test_a_limit_gives_the_failing_fraction_with_its_confidence_interval(tmp_pat
     (["--vary", "C4=normal(260N*m/rad,5%)", "--sweep", "C2=1N*m/rad:2N*m/rad:2"], 2, ["--vary", "--sweep"]),
     (["--runs", "10"], 2, ["--runs goes with --vary"]),
     (["--vary", "C4=normal(260N*m/rad,5%)", "--limit", "nope>=1"], 2, ["--limit", "'nope'", "not a column"]),
-    (["--vary", "C4=normal(260N*m/rad,5%)", "--limit", "main_shaft_speed_mean_rad_per_s>=1"], 2,
+    (["--vary", "C4=normal(260N*m/rad,5%)", "--limit", "steady_main_speed_mean_rad_per_s>=1"], 2,
      ["--limit", "needs a unit"]),
     (["--sweep", "C4=1N*m/rad:2N*m/rad:2", "--sweep", "C4=1N*m/rad:3N*m/rad:2"], 2, ["--sweep", "C4 swept twice"]),
 ])
@@ -144,13 +144,13 @@ def test_parquet_holds_the_rows_of_the_csv(tmp_path):
     header = csv_path.read_text().splitlines()[0].split(",")
     assert table.column_names == header and table.num_rows == 260
     first = csv_path.read_text().splitlines()[1].split(",")
-    assert table.column("main_shaft_speed_mean_rad_per_s")[0].as_py() == float(first[2])
+    assert table.column("steady_main_speed_mean_rad_per_s")[0].as_py() == float(first[2])
 
 
 def test_a_study_plot_has_histograms_and_a_tornado(tmp_path):
     png = tmp_path / "study.png"
     result = ok(run(*SEWING, *VARY, "--runs", "100", "--plot", str(png), "--limit",
-                    "main_shaft_speed_amplitude_rad_per_s<=1.9rad/s"))
+                    "steady_main_speed_amplitude_rad_per_s<=1.9rad/s"))
     assert f"wrote {png}" in result.stderr and png.stat().st_size > 10_000
 
 
@@ -167,7 +167,7 @@ def test_a_grid_of_two_sweeps(tmp_path):
     assert [r[:2] for r in out["rows"]] == [[c, m] for c in (100.0, 200.0, 300.0) for m in (0.1, 0.12)]
     single = json.loads(ok(run(*SEWING, "--set", "C4=300N*m/rad", "--set", "M3_0=0.1N*m", "--json")).stdout)
     row = dict(zip(keys, out["rows"][4]))
-    assert row["main_shaft_speed_amplitude_rad_per_s"] == single["steady_state"]["main_shaft"]["speed_amplitude"]["value"]
+    assert row["steady_main_speed_amplitude_rad_per_s"] == single["steady_state"]["main_shaft"]["speed_amplitude"]["value"]
     header, table = read_csv(path)
     assert header == keys and len(table["C4_N_m_per_rad"]) == 6
     text = ok(run(*SEWING, "--sweep", "C4=100N*m/rad:300N*m/rad:3", "--sweep", "M3_0=0.1N*m:0.12N*m:2")).stdout

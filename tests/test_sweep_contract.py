@@ -89,7 +89,7 @@ def test_written_files_are_named_on_stderr(tmp_path):
 def test_sweep_table_headers_are_labels_with_display_units():
     out = ok(run("simulate", "sewing", "--steady-state-only", "--sweep", "C4=50N*m/rad:310N*m/rad:2")).stdout
     assert "[N m/rad]" in out and "[rad/s]" in out and "[rad/s^2]" in out
-    assert "amplitude" in out and "main_shaft_sp" not in out
+    assert "amplitude" in out and "steady_main_sp" not in out
 
 
 def test_a_run_that_ends_before_the_load_lands_says_so():

@@ -4,7 +4,7 @@ Each command takes a drive file (a path, or a built-in drive by name; default ``
 ``--set ELEMENT.KEY=QUANTITY`` values, and calls the library once
 (:mod:`beltcalc.sim.frequency_report` over :mod:`beltcalc.sim.frequency`); here only the
 options are read and the answer rendered: a table, ``--json`` (SI values as ``{"value",
-"unit"}``), ``--csv`` (written atomically) or ``--plot`` (a PNG).
+"unit"}``), ``--csv`` (written atomically) or ``--plot`` (PNG, PDF or SVG by the file's suffix).
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ import click
 
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION
 from beltcalc.cli.options import DriveRef, FrequencyParam, OutputPath, catalog_option, output_options, quantity_option
-from beltcalc.cli.output import (console, dumps, format_number, inputs_json, require_matplotlib, table_csv, write_atomic,
-                                 wrote)
+from beltcalc.cli.output import (console, dumps, format_number, inputs_json, require_matplotlib, save_figure, table_csv,
+                                 write_atomic, wrote)
 
 
 INPUTS = "beltcalc.inputs"     # ctx.meta key: the drive's inputs with their origin (the JSON's `inputs`)
@@ -30,7 +30,8 @@ def drive_options(func):
         click.option("--set", "assignments", multiple=True, metavar="ELEMENT.KEY=QUANTITY",
                      help="Change a value of the drive file, e.g. --set 23.stiffness=190N*m/rad (repeatable)."),
         catalog_option,
-        click.option("--plot", "plot_path", type=OutputPath(), default=None, help="Write a PNG (needs matplotlib)."),
+        click.option("--plot", "plot_path", type=OutputPath(), default=None,
+                     help="Write a plot: PNG, PDF or SVG, by the file's suffix (needs matplotlib)."),
         output_options,
     ]):
         func = opt(func)
@@ -86,11 +87,8 @@ def _rpm(speed: float) -> float:
 
 
 def _save(fig, path) -> None:
-    import matplotlib.pyplot as plt
-
     fig.tight_layout()
-    write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def _figure(rows: int, cols: int, size: tuple[float, float], **kw):
@@ -152,7 +150,7 @@ def _print_shapes(m) -> None:
 
     out = console()
     for k, (p, s) in enumerate(zip(m.oscillatory(), m.shapes), 1):
-        energy = (f"largest strain energy: {s.dominant} ({format_number(100 * s.energy[s.dominant], 3)} %)"
+        energy = ("strain energy: " + ", ".join(f"{e} ({format_number(100 * share, 3)} %)" for e, share in _shares(s))
                   if s.dominant else "no spring strained")
         out.print(f"mode {k}: {_text(p.frequency)} Hz, damping ratio {_text(_clean(p.damping_ratio), 3)}; {energy}",
                   markup=False, highlight=False, soft_wrap=True)
@@ -164,6 +162,16 @@ def _print_shapes(m) -> None:
             still = _clean(a) == 0
             t.add_row(node, format_number(_clean(a), 4), "-" if still else format_number(_clean(s.phase[node]), 4))
         out.print(t)
+
+
+SHARE_SHOWN = 0.10    # a mode's elements named with their share of its strain energy: those above 10 %
+
+
+def _shares(shape) -> list[tuple[str, float]]:
+    """The elements of a mode ``shape`` that hold over :data:`SHARE_SHOWN` of its strain energy,
+    largest first (the ones to stiffen); where none does, the largest alone."""
+    big = sorted(((e, v) for e, v in shape.energy.items() if v > SHARE_SHOWN), key=lambda ev: -ev[1])
+    return big or [(shape.dominant, shape.energy[shape.dominant])]
 
 
 def _print_modes(d, m) -> None:
@@ -215,7 +223,7 @@ def _plot_modes(m, nodes: list[str], title: str, path) -> None:
         ax.set_xticks(list(x), nodes, fontsize=7, rotation=45 if len(nodes) > 8 else 0)
         ax.set_ylim(0, 1.05)
         ax.set_ylabel("amplitude", fontsize=8)
-        where = f"; {s.dominant} {100 * s.energy[s.dominant]:.0f} %" if s.dominant else ""
+        where = "; " + ", ".join(f"{e} {100 * v:.0f} %" for e, v in _shares(s)) if s.dominant else ""
         ax.set_title(f"mode {k}: {p.frequency:.4g} Hz, zeta {_clean(p.damping_ratio):.3g}{where}", fontsize=8)
     for ax in list(axes.flat)[len(shapes):]:
         ax.set_axis_off()
@@ -230,8 +238,8 @@ def modes(drive, assignments, catalog_paths, plot_path, as_json, csv_path):
     [default], roller_table, linear_axis, friswell_5_disks, friswell_geared): rigid-body modes,
     oscillatory modes (natural and damped frequency, damping ratio), real poles (time
     constant); the undamped natural frequencies; and each mode's shape: every node's amplitude
-    and phase against the largest, and the element that holds the largest share of its strain
-    energy (the one to stiffen). Strands taut, motor states included."""
+    and phase against the largest, and every element that holds over 10 % of its strain energy
+    (the ones to stiffen), largest first. Strands taut, motor states included."""
     from beltcalc.sim import frequency_report as fq
 
     d = _drive(drive, assignments, catalog_paths, plot_path)
@@ -434,19 +442,30 @@ def _print_campbell(d, c) -> None:
 
 
 def _plot_campbell(d, c, path) -> None:
+    save_figure(campbell_figure(d, c), path)
+
+
+def campbell_figure(d, c):
+    """The Campbell diagram as a matplotlib figure: modes as horizontal lines, orders as rays
+    from the origin, the crossings marked; each line labelled at the right edge (orders to 4
+    significant digits), the labels of each edge moved apart where they would overlap
+    (:func:`spread`) and left out where the height holds no more."""
     fig, axes = _figure(1, 1, (8, 5))
     ax = axes[0, 0]
     top_speed = _rpm(c.speed_max)
     lines = [k * c.speed_max / (2 * math.pi) for k in c.orders]
     crossed = [x.frequency for x in c.crossings]
     f_top = 1.25 * max(lines + crossed + ([c.modes[0].frequency] if c.modes else []))
+    mode_labels, order_labels = [], []
     for k, p in enumerate(c.modes, 1):
         if p.frequency <= f_top:
             ax.axhline(p.frequency, color="tab:blue", lw=1)
-            ax.text(top_speed, p.frequency, f" mode {k}: {p.frequency:.4g} Hz", va="bottom", ha="right", fontsize=7)
+            mode_labels.append(ax.text(top_speed, p.frequency, f" mode {k}: {p.frequency:.4g} Hz", va="bottom",
+                                       ha="right", fontsize=7))
     for k, f_end in zip(c.orders, lines):
         ax.plot([0, top_speed], [0, f_end], "--", color="gray", lw=1)
-        ax.text(top_speed, min(f_end, f_top), f" order {k:g}", va="bottom", ha="left", fontsize=7)
+        order_labels.append(ax.text(top_speed, min(f_end, f_top), f" order {k:.4g}", va="bottom", ha="left",
+                                    fontsize=7))
     ax.plot([_rpm(x.speed) for x in c.crossings], crossed, "o", color="tab:red", label="crossings")
     if c.operating_speed:
         ax.axvline(_rpm(c.operating_speed), color="black", ls=":", lw=1, label="operating (synchronous) speed")
@@ -456,7 +475,52 @@ def _plot_campbell(d, c, path) -> None:
     ax.set_ylabel("frequency [Hz]")
     ax.set_title(f"{d.title}: Campbell diagram", fontsize=9)
     ax.legend(fontsize=7, loc="upper left")
-    _save(fig, path)
+    fig.tight_layout()       # the axes' final size: the labels are moved apart in its pixels
+    for texts in (mode_labels, order_labels):     # each edge's labels: modes left of it, orders right
+        _unstack(fig, ax, texts)
+    return fig
+
+
+def _unstack(fig, ax, texts) -> None:
+    """Move the labels ``texts`` (one edge's, bottom-aligned) apart to at least one text height
+    (in the figure's pixels) inside the axes' height; hide those that do not fit."""
+    if not texts:
+        return
+    renderer = fig.canvas.get_renderer()
+    gap = 1.15 * max(t.get_window_extent(renderer).height for t in texts)
+    to_px, to_data = ax.transData, ax.transData.inverted()
+    (_, low), (_, high) = ax.transAxes.transform((0, 0)), ax.transAxes.transform((0, 1))
+    ys = [to_px.transform(t.get_position())[1] for t in texts]
+    for t, y in zip(texts, spread(ys, gap, low, high - gap)):
+        if y is None:
+            t.set_visible(False)
+        else:
+            t.set_y(to_data.transform((0, y))[1])
+
+
+def spread(ys: list[float], gap: float, low: float, high: float) -> list[float | None]:
+    """Positions as near ``ys`` as keep each at least ``gap`` from its neighbours, inside
+    ``[low, high]``, in the order of ``ys``; None for those there is no room for (the lowest:
+    the room holds ``(high - low) / gap + 1`` of them).
+
+    >>> spread([5.0, 5.5, 20.0, 6.0], 2.0, 0.0, 100.0)
+    [5.0, 7.0, 20.0, 9.0]
+    >>> spread([99.0, 99.5], 2.0, 0.0, 100.0)
+    [98.0, 100.0]
+    >>> spread([1.0, 1.1, 1.2], 2.0, 0.0, 2.0)
+    [None, 0.0, 2.0]
+    """
+    order = sorted(range(len(ys)), key=ys.__getitem__)
+    room = int((high - low) // gap) + 1 if high >= low else 0
+    order = order[max(len(order) - room, 0):]          # the lowest labels go first
+    out: list[float | None] = [None] * len(ys)
+    below = -math.inf
+    for i in order:                                    # upward: each at least gap above the last
+        out[i] = below = max(ys[i], low, below + gap)
+    above = math.inf
+    for i in reversed(order):                          # downward: under the top, gap below the next
+        out[i] = above = min(out[i], high, above - gap)
+    return out
 
 
 @click.command("campbell")

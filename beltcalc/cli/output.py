@@ -14,6 +14,7 @@ import math
 import re
 import time
 from contextlib import contextmanager
+from functools import cache
 from typing import Callable, Iterable, Iterator, Sequence
 
 import click
@@ -31,6 +32,72 @@ def require_matplotlib() -> None:
         import matplotlib  # noqa: F401
     except ImportError:
         raise OutputError("--plot needs matplotlib: pip install 'beltcalc[plot]'") from None
+
+
+PLOT_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}   # --plot: a file's suffix -> its format
+
+
+def plot_format(path) -> str:
+    """The format a plot is written in to ``path``: the one its suffix names (``.png``,
+    ``.pdf``, ``.svg``, in any case); a file written in place with no suffix (a device, a
+    FIFO: ``/dev/stdout``) gets PNG. Another suffix, or none on a file, is a ``ValueError``
+    saying what is allowed.
+
+    >>> plot_format("out.PDF"), plot_format("a/b.svg")
+    ('pdf', 'svg')
+    >>> plot_format("out.jpg")
+    Traceback (most recent call last):
+    ...
+    ValueError: 'out.jpg': a plot is written as .png, .pdf or .svg (the suffix names the format), not '.jpg'
+    """
+    from pathlib import Path
+
+    from beltcalc.cli.writer import resolve_target
+    from beltcalc.units import quote
+
+    suffix = Path(path).suffix
+    if suffix.lower() in PLOT_FORMATS:
+        return PLOT_FORMATS[suffix.lower()]
+    allowed = "a plot is written as .png, .pdf or .svg (the suffix names the format)"
+    if suffix:
+        raise ValueError(f"{quote(str(path), 200)}: {allowed}, not {quote(suffix, 40)}")
+    try:
+        in_place = resolve_target(path).how == "in place"
+    except (OutputError, OSError):
+        in_place = False
+    if in_place:
+        return "png"
+    raise ValueError(f"{quote(str(path), 200)} has no suffix: {allowed}")
+
+
+def save_figure(fig, path, dpi: int = 110) -> None:
+    """Write the matplotlib figure ``fig`` to ``path`` in the format its suffix names
+    (:func:`plot_format`), through the one writer (atomically, once the result is known
+    good), and close it."""
+    import matplotlib.pyplot as plt
+
+    fmt = plot_format(path)
+    try:
+        write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=fmt))
+    finally:
+        plt.close(fig)
+
+
+# (color, line style) of a plot's limit lines, one each: two limits on one panel (a motor's
+# peak and RMS torque) never look alike
+LIMIT_STYLES = (("tab:red", "--"), ("tab:purple", ":"), ("tab:brown", "-."), ("tab:olive", (0, (6, 2, 1, 2, 1, 2))),
+                ("tab:pink", (0, (1, 3))))
+
+
+def limit_style(k: int) -> dict:
+    """Keyword arguments of matplotlib's ``axhline``/``axvline`` for the ``k``-th limit line
+    of a panel (:data:`LIMIT_STYLES`, cycling).
+
+    >>> limit_style(0), limit_style(1)["ls"]
+    ({'color': 'tab:red', 'ls': '--', 'lw': 1.0}, ':')
+    """
+    color, ls = LIMIT_STYLES[k % len(LIMIT_STYLES)]
+    return {"color": color, "ls": ls, "lw": 1.0}
 
 
 def display_value(row: Row) -> str:
@@ -77,11 +144,87 @@ def console(width: int = 110):
     Text is shown as written: no ``:name:`` emoji codes replaced (a name or a file name with
     colons stays as typed; and each table cell skips the look-up, which also spares loading
     rich's emoji table)."""
-    from rich.console import Console
-
-    out = Console(soft_wrap=False, emoji=False)
+    out = _console_class()(soft_wrap=False, emoji=False)
     out.width = max(out.width, width)
     return out
+
+
+@cache
+def _console_class():
+    """rich's Console, whose ``print`` of a table never cuts a number (:func:`fit_table`): a
+    table too wide for the console is printed wider (a terminal then wraps its lines)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    class FittingConsole(Console):
+        def print(self, *objects, **kwargs):
+            need = max((fit_table(self, o) for o in objects if isinstance(o, Table)), default=0)
+            if need <= self.width:
+                return super().print(*objects, **kwargs)
+            shown = self.width
+            self.width = need
+            try:
+                return super().print(*objects, **kwargs)
+            finally:
+                self.width = shown
+
+    return FittingConsole
+
+
+# a table cell that is a number as format_number and the commands write it: 3.006e-05, -0.5,
+# 1,234, 40%, 12.3 %, x12.3, +0.53, or "-" (none)
+_NUMBER_CELL = re.compile(r"[-+]?(?:\d[\d,]*(?:\.\d*)?|\.\d+)(?:e[-+]?\d+)?(?: ?%)?|x\d+(?:\.\d+)?|-",
+                          re.IGNORECASE)
+
+
+def _plain(cell) -> str:
+    from rich.errors import MarkupError
+    from rich.text import Text
+
+    if isinstance(cell, Text):
+        return cell.plain
+    if isinstance(cell, str):
+        try:
+            return Text.from_markup(cell).plain
+        except MarkupError:
+            return cell
+    return ""
+
+
+def fit_table(out, table) -> int:
+    """Make the rich ``table`` keep every number whole, and return the console width it needs.
+
+    A column whose every cell is a number (:data:`_NUMBER_CELL`) is never wrapped; the
+    others wrap at spaces and fold, never crop. rich narrows a table too wide for the console
+    by taking width from its widest wrapping columns first (``Table._collapse_widths``); the
+    width returned leaves each wrapping column at least its longest word, so a number inside
+    a text (``1.2% .. 3.4%``) stays whole too.
+
+    >>> from rich.table import Table
+    >>> t = Table()
+    >>> t.add_column("value"); t.add_column("note")
+    >>> t.add_row("3.006e-05", "a long note " * 4)
+    >>> out = console()
+    >>> fit_table(out, t), t.columns[0].no_wrap, t.columns[1].no_wrap   # 9 + 2 + (4 + 2 + 1) + 3 borders
+    (21, True, False)
+    """
+    options = out.options.update_width(1_000_000)
+    fixed, wrapping = 0, []
+    for column in table.columns:
+        cells = [_plain(c).strip() for c in column.cells]
+        if any(cells) and all(_NUMBER_CELL.fullmatch(c) for c in cells if c):
+            column.no_wrap = True
+        elif not column.no_wrap:
+            column.overflow = "fold"
+        # rich's own measure of a column (padding included): (longest word, whole line)
+        low, high = table._measure_column(out, options, column)
+        if column.no_wrap:
+            fixed += high
+        else:
+            wrapping.append((low, high))
+    level = max((low for low, _ in wrapping), default=0)
+    # + 1 a wrapping column: rich splits a reduction between equal columns in whole cells
+    return fixed + sum(min(high, level) + 1 for _, high in wrapping) + table._extra_width
 
 
 def print_table(title: str, sections: Sequence[tuple[str, Sequence[Row]]],

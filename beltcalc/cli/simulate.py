@@ -14,7 +14,7 @@ import click
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION, option_name
 from beltcalc.cli.options import DriveRef, OutputPath, Tolerance, catalog_option, output_options
 from beltcalc.cli.output import (console, display_unit, display_value, format_number, inputs_json, print_table, unit_label, progress, spinner, dumps, emit_warnings, wrote,
-                                 require_matplotlib, table_csv, write_atomic)
+                                 limit_style, require_matplotlib, save_figure, table_csv, write_atomic)
 from beltcalc.errors import render
 from beltcalc.report import Row, Section
 from beltcalc.sim.methods import NAMES
@@ -335,9 +335,15 @@ def _plot_sweep(columns, table, path, swept: int = 1) -> None:
 
 def _save_plot(path, xlabel: str, panels, size: tuple[float, float], ylabel_size=None, limits=None,
                span=None) -> None:
-    """A PNG of ``panels`` (ylabel, [(x, y, style, legend or None)]) stacked over one x axis;
-    ``limits[k]`` are dashed lines (level, legend, at +-level) on panel k, ``span`` a shaded
-    (start, end) of the x axis (the steady window)."""
+    """:func:`panels_figure` written to ``path`` (PNG, PDF or SVG by its suffix)."""
+    save_figure(panels_figure(xlabel, panels, size, ylabel_size, limits, span), path)
+
+
+def panels_figure(xlabel: str, panels, size: tuple[float, float], ylabel_size=None, limits=None, span=None):
+    """A matplotlib figure of ``panels`` (ylabel, [(x, y, style, legend or None)]) stacked over
+    one x axis; ``limits[k]`` are the limit lines (level, legend, at +-level) of panel k, each
+    of its own color and line style (:func:`~beltcalc.cli.output.limit_style`) and named in
+    the legend; ``span`` a shaded (start, end) of the x axis (the steady window)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -346,10 +352,10 @@ def _save_plot(path, xlabel: str, panels, size: tuple[float, float], ylabel_size
     for k, (ax, (ylabel, lines)) in enumerate(zip(axes[:, 0], panels)):
         for x, y, style, label in lines:
             ax.plot(x, y, style, label=label)
-        for level, label, both in (limits[k] if limits else ()):
-            ax.axhline(level, color="tab:red", ls="--", lw=0.9, label=label)
+        for j, (level, label, both) in enumerate(limits[k] if limits else ()):
+            ax.axhline(level, label=label, **limit_style(j))
             if both:
-                ax.axhline(-level, color="tab:red", ls="--", lw=0.9)
+                ax.axhline(-level, **limit_style(j))
         if span is not None:
             ax.axvspan(*span, color="0.5", alpha=0.12, lw=0, label="steady window" if k == 0 else None)
         ax.set_ylabel(ylabel, fontsize=ylabel_size)
@@ -357,17 +363,22 @@ def _save_plot(path, xlabel: str, panels, size: tuple[float, float], ylabel_size
             ax.legend(fontsize=8)
     axes[-1, 0].set_xlabel(xlabel)
     fig.tight_layout()
-    write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
-    plt.close(fig)
+    return fig
 
 
 LIST_PARAMS = "beltcalc.list_params"     # ctx.meta key: --list-params was given
 
 
+# --list-params' "from" of a value neither the scene (or drive) file nor the command line gives:
+# the scene does without it (its "what" says how), or the command's own default applies
+NOT_SET = "not set"
+
+
 def _list_params(spec: Scene, scene: str, as_json: bool = False) -> None:
     """Every --set name of the scene (or drive file) with its unit, its value in the scene
     file and why, and what it is: one table on stdout (with ``as_json`` one JSON object,
-    ``{"parameters": {name: {"text", "value", "unit", "origin", "help"}}}``)."""
+    ``{"parameters": {name: {"text", "value", "unit", "origin", "help"}}}``). A value the
+    file does not set is "-", from "not set"."""
     from rich.markup import escape
     from rich.table import Table
 
@@ -448,7 +459,8 @@ def common_options(spec: Scene | None):
                               "count]; 1: in this process."),
             click.option("--scheduler", default=None, envvar="DASK_SCHEDULER_ADDRESS", metavar="tcp://HOST:PORT",
                          help="Run a study on an existing Dask cluster [default: $DASK_SCHEDULER_ADDRESS]."),
-            click.option("--plot", "plot_path", type=OutputPath(), default=None, help="Write a PNG (needs matplotlib)."),
+            click.option("--plot", "plot_path", type=OutputPath(), default=None,
+                         help="Write a plot: PNG, PDF or SVG, by the file's suffix (needs matplotlib)."),
             click.option("--work-precision", is_flag=True,
                          help="Run every method at tolerances 1e-3..1e-10 and tabulate wall time against error."),
             output_options,

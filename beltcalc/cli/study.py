@@ -289,10 +289,10 @@ def _print(obj, summary, columns, dists) -> None:
                   unit_label(d.unit))
     out.print(t)
     t = Table(title="outputs", title_justify="left")
-    t.add_column("output [unit]", no_wrap=True)
+    t.add_column("output [unit]")           # a text wraps; a number never (cli.output.fit_table)
     for h in ("mean", "sd", *(f"{p}%" for p in PERCENTILES), "min", "max"):
         t.add_column(h, justify="right", no_wrap=True)
-    t.add_column("moved most by: src / spearman", no_wrap=True)
+    t.add_column("moved most by: src / spearman")
     for key, col in columns.items():
         e = summary.outputs.get(key, {})
         infl = [i for i in e.get("influence", []) if i["src"] is not None or i["spearman"] is not None][:1]
@@ -332,8 +332,7 @@ def _plot(summary, dists, columns, limits, spec, path) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from beltcalc.cli.output import write_atomic
-    from beltcalc.cli.output import unit_label
+    from beltcalc.cli.output import limit_style, save_figure, unit_label
     from beltcalc.units import convert
 
     keys = list(columns)
@@ -350,11 +349,10 @@ def _plot(summary, dists, columns, limits, spec, path) -> None:
         if unit != (col.unit or "1") and (col.unit or "1") != "1":
             y = np.array([convert(v, col.unit, unit) for v in y]) if y.size else y
         ax_h.hist(y, bins=40, color="tab:blue", alpha=0.8)
-        for lim in limits:
-            if lim.key == key:
-                level = lim.bound if unit == (col.unit or "1") else convert(lim.bound, col.unit, unit)
-                ax_h.axvline(level, color="tab:red", ls="--", lw=1, label=f"limit {lim.op} {level:.6g}")
-                ax_h.legend(fontsize=8)
+        for j, lim in enumerate(lim for lim in limits if lim.key == key):
+            level = lim.bound if unit == (col.unit or "1") else convert(lim.bound, col.unit, unit)
+            ax_h.axvline(level, label=f"limit {lim.op} {level:.6g}", **limit_style(j))
+            ax_h.legend(fontsize=8)
         ax_h.set_xlabel(f"{col.label} [{unit_label(unit)}]", fontsize=8)
         ax_h.set_ylabel("runs")
         infl = [i for i in e.get("influence", []) if i["src"] is not None][::-1]
@@ -366,5 +364,4 @@ def _plot(summary, dists, columns, limits, spec, path) -> None:
         ax_t.set_title(f"what moves it (R^2 of the linear fit {e['r2']:.2f})" if e.get("r2") is not None
                        else "what moves it", fontsize=8)
     fig.tight_layout()
-    write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
-    plt.close(fig)
+    save_figure(fig, path)

@@ -447,68 +447,62 @@ def _in_process(plan: Plan, on_chunk, progress=None) -> str:
     return "in-process"
 
 
+# dask's workers start with MALLOC_TRIM_THRESHOLD_=65536, which also fixes glibc's mmap
+# threshold at 128 KiB: every array of a run (a batch pass, a time series) is then a fresh
+# mmap whose pages fault in again, and a chunk costs 1.8x its CPU time in this process
+# (benchmarks/studies.py). Arrays up to 32 MiB come from the heap instead, and the heap is
+# trimmed above 128 MiB: a worker keeps at most that much freed memory.
+WORKER_MALLOC = {"MALLOC_MMAP_THRESHOLD_": str(32 * 2 ** 20), "MALLOC_TRIM_THRESHOLD_": str(128 * 2 ** 20)}
+
+
 def _on_dask(plan: Plan, on_chunk, workers: int, scheduler: str | None, progress=None, retries: int = 2) -> str:
-    import logging
+    """The chunks on an existing scheduler, or on a local cluster of ``workers`` processes;
+    Dask's own log lines kept off stderr meanwhile (:mod:`beltcalc.sim.cluster`)."""
+    from beltcalc.sim.cluster import local_cluster, quiet_logs, scheduler_client
+
+    with quiet_logs():
+        if scheduler is not None:
+            with scheduler_client(scheduler) as client:
+                _run_on(client, plan, on_chunk, 1, progress, retries)
+            return f"dask scheduler {scheduler}"
+        with local_cluster(workers, WORKER_MALLOC) as client:
+            _run_on(client, plan, on_chunk, workers, progress, retries)
+        return f"dask local cluster, {workers} worker{'' if workers == 1 else 's'}"
+
+
+def _run_on(client, plan: Plan, on_chunk, workers: int, progress, retries: int) -> None:
+    """Every chunk of ``plan`` as a task of ``client``, at most about two per worker in
+    flight, handed to ``on_chunk`` in chunk order; a task that fails after its retries is
+    its chunk's rows with the reason."""
     import uuid
 
-    from beltcalc.units import quote
-    from distributed import Client, LocalCluster, as_completed
+    from distributed import as_completed
 
-    cluster = None
-    if scheduler is not None:
+    shared = client.scatter(plan, broadcast=True)
+    n = plan.n_chunks
+    cap = 2 * max(len(client.scheduler_info().get("workers", {})), workers) + 2
+    token = uuid.uuid4().hex
+    nxt, done, pending, which = 0, 0, {}, {}
+    ac = as_completed()
+    while done < n:
+        while nxt < n and (nxt - done) < cap:
+            fut = client.submit(run_chunk, shared, nxt, retries=retries, pure=False,
+                                key=f"beltcalc-chunk-{nxt}-{token}")
+            which[fut.key] = nxt
+            ac.add(fut)
+            nxt += 1
+        fut = next(ac)
+        c = which.pop(fut.key)
         try:
-            client = Client(scheduler, timeout="3s")   # an unreachable address: one line within seconds
-        except Exception as exc:                  # OSError, TimeoutError, a malformed address
-            from beltcalc.errors import InputError
-
-            raise InputError(f"cannot reach the Dask scheduler at {quote(scheduler)}: {exc}",
-                             param="scheduler") from None
-        how = f"dask scheduler {scheduler}"
-    else:
-        import dask
-
-        # dask's workers start with MALLOC_TRIM_THRESHOLD_=65536, which also fixes glibc's mmap
-        # threshold at 128 KiB: every array of a run (a batch pass, a time series) is then a fresh
-        # mmap whose pages fault in again, and a chunk costs 1.8x its CPU time in this process
-        # (benchmarks/studies.py). Arrays up to 32 MiB come from the heap instead, and the heap is
-        # trimmed above 128 MiB: a worker keeps at most that much freed memory.
-        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_MMAP_THRESHOLD_": 32 * 2 ** 20,
-                              "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": 128 * 2 ** 20}):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                                   silence_logs=logging.ERROR)
-        client = Client(cluster)
-        how = f"dask local cluster, {workers} worker{'' if workers == 1 else 's'}"
-    try:
-        shared = client.scatter(plan, broadcast=True)
-        n = plan.n_chunks
-        cap = 2 * max(len(client.scheduler_info().get("workers", {})), workers if cluster else 1) + 2
-        token = uuid.uuid4().hex
-        nxt, done, pending, which = 0, 0, {}, {}
-        ac = as_completed()
-        while done < n:
-            while nxt < n and (nxt - done) < cap:
-                fut = client.submit(run_chunk, shared, nxt, retries=retries, pure=False,
-                                    key=f"beltcalc-chunk-{nxt}-{token}")
-                which[fut.key] = nxt
-                ac.add(fut)
-                nxt += 1
-            fut = next(ac)
-            c = which.pop(fut.key)
-            try:
-                pending[c] = fut.result()
-            except Exception as exc:              # the task failed after its retries: rows with the reason
-                pending[c] = failed_chunk(plan, c, f"{type(exc).__name__}: {exc}")
-            fut.release()
-            if progress is not None:
-                progress(len(pending[c].rows))
-            while done in pending:
-                on_chunk(pending.pop(done))
-                done += 1
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
-    return how
+            pending[c] = fut.result()
+        except Exception as exc:              # the task failed after its retries: rows with the reason
+            pending[c] = failed_chunk(plan, c, f"{type(exc).__name__}: {exc}")
+        fut.release()
+        if progress is not None:
+            progress(len(pending[c].rows))
+        while done in pending:
+            on_chunk(pending.pop(done))
+            done += 1
 
 
 # --- grids: rows in memory ----------------------------------------------------------------------

@@ -110,16 +110,19 @@ class Outcome:
 
     def column_rows(self) -> list[Column]:
         """Every reported value as a :class:`~beltcalc.report.Column` (key, readable label,
-        SI unit, display unit, value): what a sweep or study reports per run. A steady-state
-        section nested as its window section is (``steady_state/nodes/rotor`` beside
-        ``nodes/rotor``: a drive file's) has its key prefixed ``steady_``."""
+        SI unit, display unit, value): what a sweep or study reports per run. A key is the
+        section's (its ``key``, else the last part of its path), its row's and its SI unit
+        (``main_speed_mean_rad_per_s``); the exact periodic steady state's keys begin
+        ``steady_`` and their labels say ``steady`` (``steady_main_speed_mean_rad_per_s``,
+        "main shaft (3) steady: speed, mean"), the window's say neither: a key and its label
+        name the same quantity."""
         from beltcalc.sim.result import _unit_tag
 
         cols = []
         for sec in self.sections:
             steady = sec.path[0] == "steady_state"
             where = sec.title.split(",")[0] + (" steady" if steady else "")
-            name = f"steady_{sec.path[-1]}" if steady and len(sec.path) > 2 else sec.path[-1]
+            name = ("steady_" if steady else "") + (sec.key or sec.path[-1])
             for row in sec.rows:
                 unit = "" if row.unit in ("", "1") else "_" + _unit_tag(row.unit)
                 cols.append(Column(f"{name}_{row.key}{unit}", f"{where}: {row.label}", row.unit,

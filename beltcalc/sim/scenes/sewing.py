@@ -7,7 +7,7 @@ transmitted torque of the main and bottom shafts over a steady window. SI floats
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -381,15 +381,17 @@ def _steady_sections(ss) -> list[Section]:
         SteadyRow("torque_mean", "torque, mean", "M_motor"),
         SteadyRow("torque_amplitude", "torque, amplitude", "M_motor", "amplitude"),
     ], "", ""))
-    return steady_sections(ss, layout)
+    # the columns of a sweep or study: steady_main_*, steady_bottom_*, steady_motor_* beside the
+    # window's main_*, bottom_*, motor_* (the JSON keeps main_shaft, bottom_shaft, motor_steady)
+    return [replace(sec, key=key) for sec, key in zip(steady_sections(ss, layout), [*SHAFTS, "motor"])]
 
 
 SCENE = Scene(
     "sewing", "sewing", PARAMS, build, run, "omega_3", "C4=50N*m/rad:310N*m/rad:14",
     # shown in a sweep's table: the exact steady state's, else (loads in the shaft angle) the window's
-    ("main_shaft_speed_amplitude_rad_per_s", "main_shaft_accel_amplitude_rad_per_s2",
-     "main_shaft_torque_amplitude_N_m", "bottom_shaft_speed_amplitude_rad_per_s",
-     "bottom_shaft_accel_amplitude_rad_per_s2", "bottom_shaft_torque_amplitude_N_m",
+    ("steady_main_speed_amplitude_rad_per_s", "steady_main_accel_amplitude_rad_per_s2",
+     "steady_main_torque_amplitude_N_m", "steady_bottom_speed_amplitude_rad_per_s",
+     "steady_bottom_accel_amplitude_rad_per_s2", "steady_bottom_torque_amplitude_N_m",
      "main_speed_amplitude_rad_per_s", "main_accel_amplitude_rad_per_s2", "main_torque_amplitude_N_m",
      "bottom_speed_amplitude_rad_per_s", "bottom_accel_amplitude_rad_per_s2", "bottom_torque_amplitude_N_m"),
     (("speed [rad/s]", (("omega_3", "main shaft"), ("omega_5", "bottom shaft"))),

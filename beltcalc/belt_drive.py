@@ -27,7 +27,7 @@ from dataclasses import dataclass, field, replace
 from beltcalc import belt as bm
 from beltcalc import geometry as geo
 from beltcalc.catalogs import BeltProfile, ServiceFactors
-from beltcalc.checks import RULES, Check, failures
+from beltcalc.checks import RULES, Check, failures, percent
 from beltcalc.errors import InputError, require_positive, require_range
 
 LAYOUTS = ("linear", "endless")
@@ -218,7 +218,7 @@ def service_factor(table: ServiceFactors, load: str, hours: float, peak_ratio: f
     k_s = table.speed_up[_class(speed_up_ratio, table.speed_up_bounds, closed_low=True)]
     base, base_from = (k_o, "Ko") if k_o >= k_a else (k_a, "Ka")
     value = round(base + k_i + k_s, 12)
-    text = (f"{base_from} = {base:g} ({load} load, {hours:g} h/day, peak {peak_ratio:.0%} of rated, "
+    text = (f"{base_from} = {base:g} ({load} load, {hours:g} h/day, peak {percent(peak_ratio)} of rated, "
             f"{starts_per_day:g} starts/day) + Ki {k_i:g} ({idler}) + Ks {k_s:g} (speed-up {speed_up_ratio:g}); "
             f"{table.source.document}")
     return ServiceFactor(value, base, base_from, k_i, k_s, text)
@@ -636,6 +636,6 @@ def select_belt_width(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceF
         tried.append(WidthTrial(row.width, worst.key, worst.utilisation, passed))
         if passed:
             return replace(report, selection=WidthSelection(SELECTION_RULE, tuple(tried), row.width))
-    listed = ", ".join(f"{t.width * 1e3:g} mm ({t.worst} {t.utilisation:.0%})" for t in tried)
+    listed = ", ".join(f"{t.width * 1e3:g} mm ({t.worst} {percent(t.utilisation)})" for t in tried)
     raise InputError(f"no width of {belt.name} passes; tried {listed}; choose a larger profile or lower the load",
                      param="select_width")

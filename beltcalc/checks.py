@@ -39,6 +39,8 @@ class Check:
     level: float | None = None      # where it differs from ``limit``: the bound on ``signals``, in their unit
                                     # (a safety factor's allowable force)
     unverified: str = ""            # why the sources do not vouch for the figures: the verdict is "unverified"
+    score: bool = False             # the value is a score (a fit's R^2), not a load: shown as itself, never
+                                    # as a utilisation (0.9 / R^2 is no fraction of a capacity)
 
     @property
     def utilisation(self) -> float | None:
@@ -94,9 +96,9 @@ class Check:
         op = "<=" if self.kind == "max" else ">="
         unit = "" if self.unit in ("", "1") else f" {self.unit}"
         u = self.utilisation
-        used = f"utilisation {u:.0%}" if u is not None and math.isfinite(u) else "utilisation beyond any finite figure"
+        used = f"utilisation {percent(u)}" if u is not None and math.isfinite(u) else "utilisation beyond any finite figure"
         return (f"{self.name} FAILS: {figure(self.value)}{unit} must be {op} {figure(self.limit)}{unit} "
-                f"({used}; {self.rule})")
+                f"({'' if self.score else used + '; '}{self.rule})")
 
     def to_dict(self) -> dict:
         """JSON-ready: values ``{"value", "unit"}``, utilisation and margin, verdict, rule
@@ -119,6 +121,28 @@ def figure(value: float | None, spec: str = ".4g") -> str:
     if math.isinf(value):
         return "a figure beyond a float" if value > 0 else "a figure below any float"
     return format(value, spec)
+
+
+PERCENT_MAX = 999      # a percentage is printed up to this; beyond it a factor ("x12.3")
+
+
+def percent(fraction: float | None, decimals: int = 0) -> str:
+    """``fraction`` (0.23: 23 %) for a sentence or a table: a percentage with ``decimals``
+    decimals up to :data:`PERCENT_MAX` %, beyond it the factor with three significant digits
+    ("x12.3": 12.3 times), so that no percentage runs to "228000000%"; one beyond a float
+    (or none) in words (:func:`figure`).
+
+    >>> percent(0.2304), percent(0.2304, 1), percent(9.99), percent(12.34), percent(2.28e6)
+    ('23%', '23.0%', '999%', 'x12.3', 'x2.28e+06')
+    >>> percent(float("inf")), percent(None)
+    ('a figure beyond a float', 'no figure')
+    """
+    if fraction is None or not math.isfinite(fraction):
+        return figure(fraction)
+    shown = f"{fraction * 100:.{decimals}f}"
+    if abs(float(shown)) <= PERCENT_MAX:
+        return f"{shown}%"
+    return f"x{fraction:.3g}"
 
 
 def failures(checks) -> list[Check]:
@@ -156,6 +180,7 @@ class Rule:
     source: str
     limit_name: str = ""         # what the limit is where it is data (the catalog's F_Tadm)
     met_by: tuple[str, ...] = ()
+    score: bool = False          # the quantity is a score (R^2), not a load: its checks show the value itself
 
     @property
     def formula(self) -> str:
@@ -200,7 +225,7 @@ class Rule:
             raise ValueError(f"rule {self.key!r} is in {self.unit!r}, not {unit!r}")
         return (cls or Check)(key or self.key, name or self.label, value, limit, unit or self.unit, kind=self.kind,
                               rule=self.text(detail, quantity), reason=reason, signals=tuple(signals), level=level,
-                              **extra)
+                              score=self.score, **extra)
 
 
 _SHEET = "the motor's data sheet (catalogs/motors)"
@@ -263,7 +288,7 @@ RULES: Mapping[str, Rule] = {r.key: r for r in (
     Rule("damping_fit", "damping fit R^2", 0.9, "1", "min", "R^2",
          "our limit, on the line through the origin fitted to the catalog's F_tspec(n) (DESIGN.md 2.1; "
          "Wojtkowiak et al. 2021 give none): below it b_TB = |slope| describes the table poorly",
-         met_by=("tension", "simulate drive")),
+         met_by=("tension", "simulate drive"), score=True),
     Rule("belt_mass", "belt mass", None, "kg", "max", "m_belt",
          "plausibility, our rule: Wojtkowiak et al. 2021 eq. 7-11 treat the belt as a spring with a small added "
          "mass on the carriage", limit_name="the mass it moves", met_by=("tension", "simulate linear-axis")),

@@ -304,6 +304,7 @@ class PhaseDuty:
     torque1: float   # left limit at the end [N m]
     peak: float      # largest |T| inside [N m]
     rms: float       # RMS over the phase [N m]
+    extreme: float = math.nan   # the torque where |T| is largest, signed: the phase's peak as it acts [N m]
 
 
 @dataclass(frozen=True)
@@ -452,11 +453,16 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
                                         _pshift(torque, c)))
             mine = pieces[first:]
             sq = sum(_pint(_pmul(p.torque, p.torque), p.duration) for p in mine)
+            peak, piece, where = -1.0, mine[0], 0.0
+            for p in mine:          # the piece and the time of the largest |T|: its signed torque
+                size, at = _abs_peak(p.torque, p.duration)
+                if size > peak:
+                    peak, piece, where = size, p, at
             phase_rows.append(PhaseDuty(
                 segment=k, segment_name=seg.name, name=ph.name, start=t0, duration=tau,
                 speed0=w[0], speed1=_pval(w, tau), torque0=_pval(mine[0].torque, 0.0),
                 torque1=_pval(mine[-1].torque, mine[-1].duration),
-                peak=max(_abs_peak(p.torque, p.duration)[0] for p in mine), rms=math.sqrt(sq / tau)))
+                peak=peak, rms=math.sqrt(sq / tau), extreme=_pval(piece.torque, where)))
             t0 += tau
     cycle = t0
     return _summarise(tuple(pieces), tuple(phase_rows), segments, cycle)

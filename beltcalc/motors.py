@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
 from beltcalc.catalogs import Motor
-from beltcalc.checks import RULES, Check
+from beltcalc.checks import RULES, Check, percent
 from beltcalc.drive import BeltAxis, Duty, duty, motor_damping
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.profiles import Trapezoid
@@ -180,12 +180,12 @@ def recommend(checks: Sequence[MotorCheck]) -> Choice:
     in_band = [c for c in passing if c.in_band]
     if in_band:
         return Choice(tuple(checks), in_band[0],
-                      f"smallest motor that passes and runs at {in_band[0].utilisation:.0%} "
+                      f"smallest motor that passes and runs at {percent(in_band[0].utilisation)} "
                       "of its rated torque (50-100 %)")
     best = passing[0]
     return Choice(tuple(checks), best,
                   f"smallest motor that passes; none runs at 50-100 % of its rated torque "
-                  f"(this one: {best.utilisation:.0%})")
+                  f"(this one: {percent(best.utilisation)})")
 
 
 # --- duty cycles: torque-speed zones ----------------------------------------------------------

@@ -24,7 +24,7 @@ Hand computation of the default scene (catalogs/scenes/wdu.toml), SI:
   T_R = mu m g k = 0.002 * 50 * 9.80665 * 3.1830989e-3 = 3.1215536e-3 N m
   accelerate J eps + T_R = 1.9072762 + 0.0031216 = 1.9103978 -> + 0.191 = 2.1013978 N m (peak)
   cruise 0.191 + 0.0031216 = 0.1941216; decelerate -1.9072762 + 0.1941216 = -1.7131547
-    -> -1.9072762 + 0.0031216 = -1.9041547 N m
+    -> -1.9072762 + 0.0031216 = -1.9041547 N m (its peak: the row's value)
   integral T^2: 0.1 (3.6496196 + 4.0145056 + 4.4158726)/3 = 0.4026666
               + 0.9 * 0.0376832 = 0.0339149
               + 0.1 (2.9348989 + 3.2621114 + 3.6258050)/3 = 0.3274272  -> 0.7640086
@@ -131,7 +131,7 @@ def test_json_numbers_by_hand_wdu():
         "inertia_motor": 0.8e-4, "inertia_gearbox": 1e-5, "inertia_coupling": 5e-8,
         "inertia_pulleys": 1.0443135e-5, "inertia_carriage": 5.0660592e-4, "inertia_belt": 5.8217e-9,
         "reflected_inertia": 6.0710488e-4, "inertia_ratio": 6.5888109,
-        "torque_accelerate": 2.1013978, "torque_cruise": 0.1941216, "torque_decelerate": -1.7131547,
+        "torque_accelerate": 2.1013978, "torque_cruise": 0.1941216, "torque_decelerate": -1.9041547,
         "peak_torque": 2.1013978, "rms_torque": 0.6910177, "peak_power": 660.17358,
         "braking_torque": -1.9041547, "accel_time": 0.1, "accel_energy": 66.017358,
         "accel_energy_exact": 32.008605,

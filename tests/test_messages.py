@@ -7,6 +7,9 @@ drive file that holds no drive."""
 from __future__ import annotations
 
 import difflib
+import json
+import math
+import re
 
 import pytest
 from click.testing import CliRunner
@@ -103,3 +106,166 @@ def test_a_misspelt_motor_kind_in_a_drive_file(tmp_path):
 def test_a_misspelt_key_in_a_drive_file(tmp_path):
     path = edited_copy(MINIMAL, tmp_path, 'stiffness = "1500 N*m/rad"', 'stifness = "1500 N*m/rad"')
     one_error_line(run("simulate", "drive", str(path)), 1, "stifness: unknown key; did you mean stiffness, ")
+
+
+# --- percentages: never past 999 %; R^2 is no percentage -----------------------------------------
+
+def test_an_overloaded_belt_shows_its_utilisation_as_a_factor():
+    # 5000 kg at 10 m/s^2 pulls about 5000 * 10 = 50,000 N through a belt allowed F_Tadm = 2200 N
+    # (BRECO AT10, 25 mm): about 23 times, "x23", not "2296 %"
+    result = ok(run("tension", "--mass", "5000kg"))
+    obj = json.loads(ok(run("tension", "--mass", "5000kg", "--json")).stdout)
+    u = obj["utilisation"]["value"]
+    assert u == pytest.approx(obj["tension_peak"]["value"] / 2200.0, rel=1e-12)
+    assert u == pytest.approx(5000 * 10.0 / 2200.0, rel=0.02)
+    row = next(line for line in result.stdout.splitlines() if "utilisation F_t,peak / F_Tadm" in line)
+    assert f"x{u:.3g}" in row and "%" not in row
+    assert f"utilisation x{u:.3g};" in result.stderr
+    assert not re.search(r"\d{4,}\s*%", result.stdout + result.stderr)
+
+
+def test_a_percentage_up_to_999_stays_a_percentage():
+    # 1000 kg: F_t,peak / F_Tadm = 10,105 / 2200 = 4.59: "459 %"
+    obj = json.loads(ok(run("tension", "--mass", "1000kg", "--json")).stdout)
+    u = obj["utilisation"]["value"]
+    assert 1 < u < 9.99
+    out = ok(run("tension", "--mass", "1000kg")).stdout
+    row = next(line for line in out.splitlines() if "utilisation F_t,peak / F_Tadm" in line)
+    assert f"{u * 100:.0f}" in row and "%" in row
+
+
+def test_the_motor_choice_column_never_prints_past_999_percent():
+    out = ok_or_no_motor(run("motor-size", "--gear-ratio", "1"))
+    obj = json.loads(run("motor-size", "--gear-ratio", "1", "--json").stdout)
+    first = obj["motors"][0]
+    u = first["utilisation"]["value"]
+    assert u > 10          # the smallest motor runs far past its rated torque
+    row = next(line for line in out.splitlines() if line.startswith(f"│ {first['name']} "))
+    assert f"x{u:.3g}" in row
+    assert not re.search(r"\d{4,}%", out)
+
+
+def ok_or_no_motor(result) -> str:
+    """A motor-size run whose only error is that no motor fits (exit 1): its tables."""
+    assert result.exit_code == 1, result.stderr
+    assert result.stderr.splitlines()[-1].startswith("Error: no motor fits"), result.stderr
+    return result.stdout
+
+
+def test_percent_rule():
+    from beltcalc.checks import percent
+
+    assert [percent(0.2304), percent(9.99), percent(9.996), percent(12.34), percent(2.28e6)] == \
+        ["23%", "999%", "x10", "x12.3", "x2.28e+06"]
+
+
+def test_a_poor_damping_fit_shows_r2_as_a_plain_number():
+    # BRECO T20: the line through the origin fitted to its F_tspec(n) table gives R^2 = 0.151
+    obj = json.loads(ok(run("tension", "--belt", "BRECO-T20", "--json")).stdout)
+    r2 = obj["damping_fit_r_squared"]["value"]
+    check = next(c for c in obj["checks"] if c["key"] == "damping_fit")
+    assert check["value"]["value"] == pytest.approx(r2, rel=1e-12)
+    assert check["utilisation"]["value"] == pytest.approx(0.9 / r2, rel=1e-12)     # the JSON keeps it
+    result = ok(run("tension", "--belt", "BRECO-T20"))
+    checks = result.stdout[result.stdout.index("checks (utilisation)"):]
+    row = next(line for line in checks.splitlines() if "damping fit R^2" in line)
+    cells = [c.strip() for c in row.split("│")]
+    assert cells[2] == f"{r2:.3f}" and cells[3] == ""          # the value, no unit, no %
+    assert f"{0.9 / r2 * 100:.0f}" not in row
+    warning = next(w for w in result.stderr.splitlines() if "damping fit R^2 FAILS" in w)
+    assert "utilisation" not in warning and "%" not in warning
+
+
+def test_a_negative_r2_is_no_float_range():
+    # Elatech T5 on an 80-tooth pulley: R^2 = -0.129 (the fit is worse than the mean)
+    result = ok(run("tension", "--belt", "Elatech-T5"))
+    assert "range of a float" not in result.stdout + result.stderr
+    row = next(line for line in result.stdout[result.stdout.index("checks (utilisation)"):].splitlines()
+               if "damping fit R^2" in line)
+    assert "-0.129" in row
+
+
+def test_the_simulated_damping_fit_check_has_no_utilisation(tmp_path):
+    path = tmp_path / "t20.toml"
+    path.write_text(MINIMAL.read_text().replace("BRECO-AT10", "BRECO-T20"))
+    out = ok(run("simulate", "drive", str(path))).stdout
+    row = next(line for line in out.splitlines() if "damping fit R^2" in line)
+    cells = [c.strip() for c in row.split("│")]
+    assert cells[2] == "0.1509" and cells[5] == "-" and cells[6] == "FAIL"
+
+
+# --- a physical cause, not the range of a float ---------------------------------------------------
+
+def test_no_motor_means_no_inertia_ratio_not_a_float_overflow():
+    # direct drive (i = 1): the carriage reflects 50 kg (D/2)^2 = 50 * 0.0636620^2 = 0.2026 kg m^2,
+    # thousands of times every rotor: no motor passes, so there is no rotor inertia to divide by
+    result = run("motor-size", "--gear-ratio", "1")
+    out = ok_or_no_motor(result)
+    assert "range of a float" not in out + result.stderr
+    lines = out.splitlines()
+    k = next(i for i, line in enumerate(lines) if "load / motor inertia" in line)
+    assert "no motor fits, so there is no rotor" in lines[k] and lines[k].split("│")[2].strip() == "-"
+    obj = json.loads(run("motor-size", "--gear-ratio", "1", "--json").stdout)
+    assert obj["inertia_ratio"]["value"] is None
+    assert "no rotor inertia" in obj["inertia_ratio"]["reason"]
+    assert obj["reflected_inertia"]["value"] == pytest.approx(50 * (0.4 / math.pi / 2) ** 2, rel=0.03)
+
+
+# --- phase rows at the phase's peak ---------------------------------------------------------------
+
+def test_the_decelerate_row_is_the_phase_peak():
+    # WDU scene by hand (tests/test_cli_motor_size.py): J_red = 6.0710488e-4 kg m^2, eps = 3141.5927
+    # rad/s^2, b_M omega = 0.1*1.91 = 0.191 N m at 3000 rpm, T_R = 3.1215536e-3 N m. Decelerating, T is
+    # linear in t: -J eps + b_M omega(t) + T_R from -1.7131547 (omega = 3000 rpm) to -1.9041547 N m
+    # (omega = 0); a line's extreme is an end, here the end.
+    j_eps = 6.0710488e-4 * 3141.5927
+    start, end = -j_eps + 0.191 + 3.1215536e-3, -j_eps + 3.1215536e-3
+    obj = json.loads(ok(run("motor-size", "--json")).stdout)
+    assert obj["torque_decelerate"]["value"] == pytest.approx(end, rel=1e-6)
+    decel = next(p for p in obj["phases"] if p["phase"] == "decelerate")
+    assert decel["torque0"]["value"] == pytest.approx(start, rel=1e-6)
+    assert decel["extreme_torque"]["value"] == pytest.approx(end, rel=1e-6)
+    out = ok(run("motor-size")).stdout
+    row = next(line for line in out.splitlines() if "decelerate (0.1 s)" in line)
+    assert row.split("│")[2].strip() == f"{end:.2f}" == "-1.90"
+
+
+def test_a_phase_peak_inside_the_phase():
+    # One phase of constant jerk: omega = 10 + 10 t - 10 t^2 rad/s on [0, 1] s (accel 10 -> -10 rad/s^2),
+    # J = 0.05 (rotor) + 20 kg (0.1 m / 2)^2 = 0.1 kg m^2, b = 1 N m s/rad, nothing else:
+    # T(t) = J (10 - 20 t) + b (10 + 10 t - 10 t^2); T' = -2 + 10 - 20 t = 0 at t = 0.4 s,
+    # T(0.4) = 0.1 * 2 + (10 + 4 - 1.6) = 12.6 N m, above the ends T(0) = 11 and T(1) = 9.
+    from beltcalc.dutycycle import Drive, Segment, cycle_duty
+    from beltcalc.drive import BeltAxis
+    from beltcalc.profiles import Phase, Trapezoid
+
+    axis = BeltAxis(mass=20.0, substitute_mass=0.0, pulley_diameter=0.1, pulley_inertia=0.0, idler_inertia=0.0,
+                    gear_ratio=1.0)
+    phase = Phase("accel_out", 1.0, 10.0, 10.0, -20.0)
+    move = Segment("move", "move", profile=Trapezoid(20.0, 10.0, phase.angle, 0.0, (phase,), False))
+    row, = cycle_duty(Drive(axis), [move], motor_inertia=0.05, motor_damping=1.0).phases
+    assert (row.torque0, row.torque1) == (pytest.approx(11.0, rel=1e-12), pytest.approx(9.0, rel=1e-12))
+    assert row.extreme == pytest.approx(12.6, rel=1e-12)
+    assert row.peak == pytest.approx(12.6, rel=1e-12)
+
+
+# --- a drive file with no drive; --list-params says where a value comes from ----------------------
+
+@pytest.mark.parametrize("text", ["", "# my drive\n\n"])
+def test_an_empty_drive_file_points_to_the_minimal_drive(tmp_path, text):
+    path = tmp_path / "mine.toml"
+    path.write_text(text)
+    line = one_error_line(run("simulate", "drive", str(path)), 1, "the file holds no drive",
+                          "catalogs/drives/minimal.toml", "docs/drive_files.md")
+    assert "t_end: missing" not in line
+    assert (builtin_dir() / "drives" / "minimal.toml").is_file()
+
+
+def test_list_params_says_not_set_for_a_value_no_file_gives():
+    out = ok(run("simulate", "sewing", "--list-params")).stdout
+    assert "the caller" not in out
+    row = next(line for line in out.splitlines() if line.startswith("│ belt_pretension "))
+    cells = [c.strip() for c in row.split("│")]
+    assert cells[3] == "-" and cells[5] == "not set"
+    c4 = next(line for line in out.splitlines() if line.startswith("│ C4 "))
+    assert "paper, section IV" in c4          # a value the scene file gives says why

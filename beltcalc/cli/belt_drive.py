@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from beltcalc.checks import percent
 from beltcalc.cli.contract import checks_json, echo_inputs, entry, options_text, out_of_range, quantity, shown
 from beltcalc.cli.options import catalog_option, output_options, quantity_option
 from beltcalc.cli.output import Row, dumps, emit_warnings, print_table, strict_option, table_csv, write_atomic, wrote
@@ -145,7 +146,7 @@ def notes(r) -> list[str]:
             out.append(f"{c.key}: not checked - {c.reason}")
     out += r.notes
     if r.selection is not None:
-        tried = ", ".join(f"{t.width * 1e3:g} mm ({'pass' if t.passed else 'FAIL'}: {t.worst} {t.utilisation:.0%})"
+        tried = ", ".join(f"{t.width * 1e3:g} mm ({'pass' if t.passed else 'FAIL'}: {t.worst} {percent(t.utilisation)})"
                           for t in r.selection.tried)
         out.append(f"width selection: chose {r.selection.chosen * 1e3:g} mm; tried {tried}; rule: {r.selection.rule}")
     return out

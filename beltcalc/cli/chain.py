@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from beltcalc.checks import percent
 from beltcalc.cli.contract import (check_rows, checks_json, echo_inputs, entry, fmt, options_text, out_of_range,
                                    quantity, shown)
 from beltcalc.cli.options import catalog_option, output_options, quantity_option
@@ -109,7 +110,7 @@ def print_candidates(r) -> None:
     for k, c in sorted(r.best_per_strands.items()):
         sf = fmt(c.safety_factor, 3)
         table.add_row(str(k), c.chain.name, fmt(c.chain.pitch * 1e3, 5),
-                      fmt(c.rated_power / 1e3, 4), c.governing, f"{c.utilisation:.0%}", sf)
+                      fmt(c.rated_power / 1e3, 4), c.governing, percent(c.utilisation), sf)
     console().print(table)
 
 

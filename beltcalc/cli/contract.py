@@ -86,10 +86,15 @@ def checks_json(checks) -> list[dict]:
 
 
 def check_rows(checks) -> list[Row]:
-    """The checks as table rows: utilisation in %, the verdict and the rule in the note
-    (a failing row says FAIL first, an n/a or unverified row why)."""
+    """The checks as table rows: utilisation in % (past 999 % as a factor, "x12.3"), the
+    verdict and the rule in the note (a failing row says FAIL first, an n/a or unverified
+    row why). A check on a score (the damping fit's R^2, :attr:`~beltcalc.checks.Check.score`)
+    shows the value itself as a plain number: limit / R^2 is no fraction of a capacity. A
+    utilisation with no finite figure (a minimum check on a value at or below 0) is "-" with
+    that said, not blamed on the float range."""
     rows = []
     for c in checks:
+        u = c.utilisation
         if c.verdict == "unverified":
             note = f"UNVERIFIED: {render(c.unverified, option_name)}"
         elif c.verdict == "n/a":
@@ -99,7 +104,14 @@ def check_rows(checks) -> list[Row]:
             unit = "" if c.unit == "1" else " " + c.unit.replace("*", " ")
             note = (f"pass: {figure(c.value)} {op} {figure(c.limit)}{unit}" if c.verdict == "pass"
                     else f"FAIL: {figure(c.value)}{unit}, must be {op} {figure(c.limit)}{unit}")
-        rows.append(Row(f"check_{c.key}", c.name, c.utilisation, "1", "percent", digits=3, note=note))
+            if u is not None and math.isinf(u) and not c.score:
+                note += ("; no utilisation: the value is at or below 0" if c.kind == "min"
+                         else "; no utilisation: the limit is not above 0")
+                u = None
+        if c.score:
+            rows.append(Row(f"check_{c.key}", c.name, c.value, "1", digits=3, note=note))
+        else:
+            rows.append(Row(f"check_{c.key}", c.name, u, "1", "percent", digits=3, note=note))
     return rows
 
 

@@ -10,6 +10,7 @@ from beltcalc.cli.options import OutputPath, catalog_option, output_options, qua
 from beltcalc.cli.contract import checks_json, echo_inputs, entry, fmt, options_text, out_of_range, quantity, shown
 from beltcalc.cli.output import (Row, console, dumps, emit_warnings, print_table, progress,
                                  require_matplotlib, strict_option, table_csv, write_atomic, wrote)
+from beltcalc.checks import percent
 from beltcalc.errors import InputError, UnknownNameError, did_you_mean
 from beltcalc.sizing import PARAMS
 
@@ -334,6 +335,11 @@ def _jerk_limited(g) -> bool:
             and p.peak_accel < p.accel * (1 - 1e-12))
 
 
+# The load / motor inertia ratio with no motor to report: no rotor inertia to divide by (a
+# physical absence, not a float's range).
+NO_MOTOR_RATIO = "no motor fits, so there is no rotor inertia to divide by; give --motor NAME"
+
+
 def _rpm(w: float) -> str:
     return f"{w * 30 / math.pi:.0f} rpm"
 
@@ -384,7 +390,8 @@ def _sections(s) -> tuple[list, list[Row]]:
         Row("reflected_inertia", "reflected inertia J_red", load_j + motor_j, "kg m^2", "kg*cm^2",
             note="at the motor shaft" + ("; largest payload" if not single else "")
                  + ("; counterweight" if mt.counterweight else "")),
-        Row("inertia_ratio", "load / motor inertia", shown.inertia_ratio if shown else math.nan, "1", digits=3),
+        Row("inertia_ratio", "load / motor inertia", shown.inertia_ratio if shown else None, "1", digits=3,
+            note="" if shown else NO_MOTOR_RATIO),
     ]
     rows = motion + inertia
     if shown is None:
@@ -392,16 +399,16 @@ def _sections(s) -> tuple[list, list[Row]]:
     d = shown.duty
     torque = []
     if single:
-        torque += [Row(f"torque_{p.name}", f"{p.name} ({p.duration:.3g} s)",
-                       p.torque1 if p.name == "accelerate" else p.torque0, "N m", digits=3,
-                       note=f"{fmt(p.torque0, 3)} -> {fmt(p.torque1, 3)} N m")
+        # each phase at its peak, signed (the largest |T| over the phase), then its start -> end
+        torque += [Row(f"torque_{p.name}", f"{p.name} ({p.duration:.3g} s)", p.extreme, "N m", digits=3,
+                       note=f"peak; {fmt(p.torque0, 3)} -> {fmt(p.torque1, 3)} N m")
                    for p in d.phases]
     t_a, e29, exact = first_move_energy(s)
     m = shown.motor
     torque += [
         Row("peak_torque", "peak torque", d.peak_torque, "N m", digits=3, note=f"T_max {m.T_max:g} N m"),
         Row("rms_torque", "RMS torque", d.rms_torque, "N m", digits=3,
-            note=f"limit {fmt(shown.continuous_limit, 3)} N m: {shown.utilisation:.0%} of T_n"),
+            note=f"limit {fmt(shown.continuous_limit, 3)} N m: {percent(shown.utilisation)} of T_n"),
         Row("mean_speed", "mean speed", d.mean_speed, "rad/s", "rpm", note=f"rated {_rpm(m.n_rated)}"),
         Row("peak_power", "peak power", d.peak_power, "W", digits=3),
         Row("holding_torque", "holding torque at rest", d.holding_torque, "N m", digits=3),
@@ -484,7 +491,7 @@ def _print(s, sections, values, title) -> None:
         table.add_row(c.motor.name, f"{c.motor.T_n:g}", f"{c.motor.T_max:g}", f"{c.motor.J * 1e4:g}",
                       mark(c.peak_ok), mark(c.rms_ok), mark(c.speed_ok), mark(c.zone_ok),
                       f"{c.inertia_ratio:.3g} " + ("" if c.inertia_ok else "[red]FAIL[/red]"),
-                      f"{c.utilisation:.0%}", pick)
+                      percent(c.utilisation), pick)
     out.print(table)
     picked = s.choice.selected.motor.name if s.choice.selected else "none"
     out.print(f"recommended: {picked}: {s.choice.reason}", highlight=False, markup=False)
@@ -509,6 +516,8 @@ def _json(s, rows, values, inputs, warnings, scene=None) -> str:
                       ("accel_energy_exact", "J"), ("peak_power", "W")):
         obj.setdefault(key, {"value": None, "unit": unit,
                              "reason": "no motor fits, so there is no torque profile; give --motor NAME"})
+    if s.shown is None:
+        obj["inertia_ratio"] = {"value": None, "unit": "1", "reason": NO_MOTOR_RATIO}
     obj["selected_motor"] = s.choice.selected.motor.name if s.choice.selected else None
     obj["reported_motor"] = s.shown.motor.name if s.shown else None
     obj["reason"] = s.choice.reason
@@ -531,7 +540,8 @@ def _json(s, rows, values, inputs, warnings, scene=None) -> str:
         obj["phases"] = [{
             "segment": p.segment_name, "phase": p.name, "start": _q(p.start, "s"), "duration": _q(p.duration, "s"),
             "speed0": _q(p.speed0, "rad/s"), "speed1": _q(p.speed1, "rad/s"), "torque0": _q(p.torque0, "N m"),
-            "torque1": _q(p.torque1, "N m"), "peak_torque": _q(p.peak, "N m"), "rms_torque": _q(p.rms, "N m"),
+            "torque1": _q(p.torque1, "N m"), "peak_torque": _q(p.peak, "N m"),
+            "extreme_torque": _q(p.extreme, "N m"), "rms_torque": _q(p.rms, "N m"),
         } for p in d.phases]
         obj["braking_events"] = [{"start": _q(e.start, "s"), "end": _q(e.end, "s"), "energy": _q(e.energy, "J"),
                                   "peak_power": _q(e.peak_power, "W")} for e in d.events]

@@ -109,10 +109,25 @@ def display_value(row: Row) -> str:
         return row.value
     if row.value is None or (isinstance(row.value, float) and math.isnan(row.value)):
         return "-"
+    if _factor(row):        # past 999 %: the factor, "x12.3" (docs/output.md)
+        from beltcalc.checks import percent
+
+        return percent(row.value)
     si = "" if row.unit == "1" else row.unit
     shown = row.display if row.display else si
     value = convert(row.value, si, shown) if shown != si else row.value
     return format_number(value, row.digits)
+
+
+def _factor(row: Row) -> bool:
+    """Whether ``row`` is a percentage past 999 %, shown as a factor ("x12.3") instead."""
+    from beltcalc.checks import PERCENT_MAX
+
+    value = row.value
+    if row.display != "percent" or isinstance(value, (str, bool)) or value is None or not math.isfinite(value):
+        return False
+    shown = value * 100
+    return not math.isfinite(shown) or abs(float(format_number(shown, row.digits))) > PERCENT_MAX
 
 
 def format_number(value: float, digits: int = 4) -> str:
@@ -134,7 +149,7 @@ def format_number(value: float, digits: int = 4) -> str:
 def display_unit(row: Row) -> str:
     unit = row.display or row.unit
     if unit == "percent":
-        return "%"
+        return "" if _factor(row) else "%"
     return "" if unit in ("1", "") else unit.replace("**", "^").replace("*", " ")
 
 

@@ -127,8 +127,11 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
 
 
 def _print_checks(checks) -> None:
-    """The checks as one table, failing and unverified rows marked."""
+    """The checks as one table, failing and unverified rows marked; a utilisation past 999 %
+    as a factor ("x12.3"), none for a score (the damping fit's R^2: its value is the figure)."""
     from rich.table import Table
+
+    from beltcalc.checks import percent
 
     if not checks:
         return
@@ -140,7 +143,7 @@ def _print_checks(checks) -> None:
         style = "bold red" if c.verdict == "FAIL" else "bold yellow" if c.verdict == "unverified" else None
         t.add_row(c.name, "-" if c.value is None else format_number(c.value, 4),
                   "-" if c.limit is None else format_number(c.limit, 4), c.unit,
-                  "-" if u is None else f"{u:.0%}" if u < 1e300 else "unbounded", c.verdict, style=style)
+                  "-" if u is None or c.score else percent(u) if u < 1e300 else "unbounded", c.verdict, style=style)
     console().print(t)
 
 
@@ -396,7 +399,7 @@ def _list_params(spec: Scene, scene: str, as_json: bool = False) -> None:
         r = resolved.get(p.name)
         unit = {"int": "whole number", None: "name", "": "number"}.get(p.unit, p.unit)
         t.add_row(p.name, escape(unit.replace("|", " or ")), escape(r.text if r is not None else "-"),
-                  escape(p.help), escape(r.origin.removeprefix("scene: ") if r is not None else "the caller"))
+                  escape(p.help), escape(r.origin.removeprefix("scene: ") if r is not None else NOT_SET))
     console(width=140).print(t)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from beltcalc.checks import percent
 from beltcalc.cli.contract import (check_rows, checks_json, echo_inputs, entry, options_text, out_of_range, quantity,
                                    shown)
 from beltcalc.cli.options import catalog_option, output_options, quantity_option
@@ -90,7 +91,7 @@ def tension(ctx, belt, width, select_width, safety_factor, center_distance, mass
     if not report.bolt.bearing_torque:
         notes.append(f"bolt torque: {bolt_note(report.tension_peak)}")
     if report.selection_rule:
-        tried = ", ".join(f"{w * 1e3:g} mm ({'pass' if ok else 'too narrow'}: {u:.0%} of F_Tadm)"
+        tried = ", ".join(f"{w * 1e3:g} mm ({'pass' if ok else 'too narrow'}: {percent(u)} of F_Tadm)"
                           for w, u, ok in report.widths_tried)
         notes.append(f"width selection: chose {report.width * 1e3:g} mm; tried {tried}; "
                      f"rule: {report.selection_rule}")

@@ -26,6 +26,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from beltcalc.catalogs import read_toml, shown_path
+from beltcalc.checks import percent
 from beltcalc.errors import BeltcalcError, CatalogError, FloatRangeError, InputError, blame, did_you_mean, float_range
 
 SECTIONS = ("drive", "node", "coupling", "shaft", "gear", "belt_span", "chain_strand", "motor", "load")
@@ -292,6 +293,11 @@ class DriveFile:
         self._values: dict = {}                 # (entry, key) -> what a build reads of the file itself
         if data is None:
             data = _read_toml(self.path)
+        if not data:           # an empty file, or comments only: say what a drive is, not its first missing key
+            raise DriveFileError(f"{shown_path(self.path)}: the file holds no drive (no [drive] section, no [[node]], "
+                                 "no element); start from the smallest complete one, catalogs/drives/minimal.toml "
+                                 "(a motor, a coupling, a belt and a load; it runs as the drive 'minimal'), and see "
+                                 "docs/drive_files.md for every key")
         for key in data:
             if key not in SECTIONS:
                 self.fail(key, "", f"unknown section [{key}] / [[{key}]]; "
@@ -918,7 +924,7 @@ class _Builder:
                 sync = f"{2 * math.pi * supply / p * 30 / math.pi:.6g} rpm with {p} pole pairs" if p else "none"
                 self.f.fail(e.where, "rated_speed", f"{rpm:.6g} rpm fits no pole count at the supply {supply:.6g} Hz "
                                                     f"(the synchronous speed just above it: {sync}; rated slip "
-                                                    f"{slip:.1%}, an induction motor's is 0..{MAX_RATED_SLIP:.0%}): "
+                                                    f"{percent(slip, 1)}, an induction motor's is 0..{MAX_RATED_SLIP:.0%}): "
                                                     "check rated_speed and supply (the rated speed at that "
                                                     "frequency), or give pole_pairs")
             self.notes.append(f"motor {e.name}: pole_pairs = {p}, inferred from rated_speed {rpm:.6g} rpm and "
@@ -930,7 +936,7 @@ class _Builder:
         if not 0 < slip <= MAX_RATED_SLIP:
             self.f.fail(e.where, "pole_pairs", f"{pairs} pole pairs at the supply {supply:.6g} Hz turn at "
                                                f"{sync * 30 / math.pi:.6g} rpm synchronous; the rated_speed "
-                                               f"{rpm:.6g} rpm gives a rated slip of {slip:.1%}, outside "
+                                               f"{rpm:.6g} rpm gives a rated slip of {percent(slip, 1)}, outside "
                                                f"0..{MAX_RATED_SLIP:.0%} (NEMA design D, the high-slip motors: "
                                                "up to 13 %): check pole_pairs, rated_speed and supply")
         return pairs

@@ -130,7 +130,8 @@ def main() -> None:
                       f"> {args.radau_limit:g} (stopped) | - | - |"))
             lines.append(row)
             print(row, flush=True)
-    Path(args.out).write_text("\n".join(lines) + "\n")
+            # the table so far, after every row: a run stopped later keeps the rows it finished
+            Path(args.out).write_text("\n".join(lines) + "\n")
     print(f"written {args.out}")
 
 

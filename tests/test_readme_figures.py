@@ -75,6 +75,8 @@ SPANS_400 = ("--set", "upper.length=400mm", "--set", "lower.length=400mm")
 COMMANDS: dict[str, tuple[str, ...]] = {
     "tension": ("tension",),
     "tension rayleigh": ("tension", "--substitute-mass-model", "rayleigh"),
+    "tension 5000 kg": ("tension", "--mass", "5000kg"),
+    "tension T20": ("tension", "--belt", "BRECO-T20"),
     "tension width": ("tension", "--select-width", "--safety-factor", "1"),
     "tension width die": ("tension", "--mass", "90kg", "--center-distance", "795mm", "--select-width",
                           "--safety-factor", "1"),
@@ -359,6 +361,7 @@ FIGURES = on("docs/tension.md", [
     F("motor-size", "decelerate -1.71 -> -1.90, dwell 0 |", "-1.71", J("phases/2/torque0")),
     F("motor-size", "decelerate -1.71 -> -1.90, dwell 0 |", "-1.90", J("phases/2/torque1")),
     F("motor-size", "decelerate -1.71 -> -1.90, dwell 0 |", "0", J("torque_dwell")),
+    F("motor-size", "each phase's row is its peak, signed (decelerate -1.90 N m)", "-1.90", J("torque_decelerate")),
     F("motor-size", "| peak / RMS torque | 2.10 / 0.69 N m |", "2.10", J("peak_torque")),
     F("motor-size", "| peak / RMS torque | 2.10 / 0.69 N m |", "0.69", J("rms_torque")),
     F("motor-size", "against T_max 6.69 and T_n 1.91 N m: RMS is 36 % of rated |", "6.69",
@@ -737,6 +740,12 @@ FIGURES = on("docs/tension.md", [
     F("chain", "Example 17-5's 140-3 runs at 3.778 m/s: Type B (Type A up to 0.584 m/s,", "B", J("lubrication")),
     F("chain", "Type B (Type A up to 0.584 m/s, Type B up to 5.59 m/s)", "0.584", J("lubrication_limit_a")),
     F("chain", "Type B (Type A up to 0.584 m/s, Type B up to 5.59 m/s)", "5.59", J("lubrication_limit_b")),
+]) + on("docs/output.md", [
+    # the percentage rule: a percentage up to 999 %, the factor beyond; R^2 a plain number
+    F("tension", "(`beltcalc tension`: utilisation F_t,peak / F_Tadm 23.0 %)", "23.0", J("utilisation", 100)),
+    F("tension 5000 kg", "`beltcalc tension --mass 5000kg` loads the belt to `x23` of", "23", J("utilisation")),
+    F("tension T20", "(`beltcalc tension --belt BRECO-T20`: damping fit R^2 0.151)", "0.151",
+      J("damping_fit_r_squared")),
 ])
 
 

@@ -26,7 +26,10 @@ def _sweep_spec(text: str | None):
     units = {"accel": ("rad/s^2", "m/s^2"), "speed": ("rad/s", "m/s")}
     name, _, rng = text.partition("=")
     parts = rng.split(":")
-    if name not in SWEEPABLE or len(parts) != 3:
+    if name not in SWEEPABLE:
+        raise click.BadParameter(f"{text!r}: {name!r} cannot be swept here; {did_you_mean(name, SWEEPABLE)} "
+                                 "(e.g. accel=100rad/s^2:1000rad/s^2:10)", param_hint="--sweep")
+    if len(parts) != 3:
         raise click.BadParameter(f"{text!r}: use NAME=START:STOP:N with NAME one of "
                                  f"{', '.join(SWEEPABLE)}, e.g. accel=100rad/s^2:1000rad/s^2:10",
                                  param_hint="--sweep")

@@ -96,7 +96,8 @@ class Check:
         op = "<=" if self.kind == "max" else ">="
         unit = "" if self.unit in ("", "1") else f" {self.unit}"
         u = self.utilisation
-        used = f"utilisation {percent(u)}" if u is not None and math.isfinite(u) else "utilisation beyond any finite figure"
+        used = (f"utilisation {percent(u)}" if u is not None and math.isfinite(u)
+                else "utilisation beyond any finite figure")
         return (f"{self.name} FAILS: {figure(self.value)}{unit} must be {op} {figure(self.limit)}{unit} "
                 f"({'' if self.score else used + '; '}{self.rule})")
 

@@ -70,7 +70,8 @@ def load_cycle(path: str | Path) -> CycleFile:
 
     extra = set(data) - {"cycle", "segment", "source"}
     if extra:
-        fail(sorted(extra)[0], f"unknown top-level key; {did_you_mean(sorted(extra)[0], ('cycle', 'segment', 'source'))}")
+        key = sorted(extra)[0]
+        fail(key, f"unknown top-level key; {did_you_mean(key, ('cycle', 'segment', 'source'))}")
     head = data.get("cycle", {})
     if not isinstance(head, dict):
         fail("cycle", "must be a table")

@@ -165,9 +165,9 @@ def parse_quantity(text: str | float, si_unit: str, display: str | None = None) 
 
     A bare number is accepted only for dimensionless quantities (``si_unit`` "" or "1").
     ``display`` is the unit the caller shows the value in (``mm`` for a width): the
-    examples in messages use it (by default :func:`example_unit`'s). The text is one number and a unit: pint reads only the
-    unit, so an expression (``9**9**9 kg``) is refused, not computed; at most
-    :data:`MAX_TEXT` characters.
+    examples in messages use it (by default :func:`example_unit`'s). The text is one number
+    and a unit: pint reads only the unit, so an expression (``9**9**9 kg``) is refused, not
+    computed; at most :data:`MAX_TEXT` characters.
 
     >>> parse_quantity("90kg", "kg")
     90.0

@@ -133,8 +133,8 @@ def percent(fraction: float | None, decimals: int = 0) -> str:
     ("x12.3": 12.3 times), so that no percentage runs to "228000000%"; one beyond a float
     (or none) in words (:func:`figure`).
 
-    >>> percent(0.2304), percent(0.2304, 1), percent(9.99), percent(12.34), percent(2.28e6)
-    ('23%', '23.0%', '999%', 'x12.3', 'x2.28e+06')
+    >>> percent(0.2304), percent(0.2304, 1), percent(9.99), percent(12.34), percent(1000.4), percent(2.28e6)
+    ('23%', '23.0%', '999%', 'x12.3', 'x1000', 'x2.28e+06')
     >>> percent(float("inf")), percent(None)
     ('a figure beyond a float', 'no figure')
     """
@@ -143,7 +143,7 @@ def percent(fraction: float | None, decimals: int = 0) -> str:
     shown = f"{fraction * 100:.{decimals}f}"
     if abs(float(shown)) <= PERCENT_MAX:
         return f"{shown}%"
-    return f"x{fraction:.3g}"
+    return f"x{float(f'{fraction:.3g}'):g}"       # three digits, no exponent below 1e6: x1000, not x1e+03
 
 
 def failures(checks) -> list[Check]:

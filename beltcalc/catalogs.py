@@ -324,7 +324,7 @@ def _check_depth(shown: str, data: dict) -> None:
                 stack.append((value, depth + 1, inner))
 
 
-class _Reader:
+class CatalogReader:
     """Reads one catalog file; every error names the file and the key."""
 
     def __init__(self, path: Path, allowed=("source", "units", "belts", "threads", "motors", "chains",
@@ -615,7 +615,7 @@ class Catalog:
     files: list[str] = field(default_factory=list)
 
     def add_file(self, path: Path) -> None:
-        reader = _Reader(path)
+        reader = CatalogReader(path)
         for kind, items in (("belts", reader.belts()), ("threads", reader.threads()),
                             ("motors", reader.motors()), ("chains", reader.chains())):
             for item in items:
@@ -828,7 +828,7 @@ def load_scene(ref: str, command: str | None = None) -> Scene:
             hint = f"; did you mean {', '.join(close)}?" if close else ""
             raise UnknownNameError(f"unknown scene {quote(ref)}{hint} (built-in: {', '.join(known)}; "
                                    "or give a .toml path)", param="scene")
-    reader = _Reader(path, allowed=("source", "scene", "parameters"))
+    reader = CatalogReader(path, allowed=("source", "scene", "parameters"))
     data = reader.data
     head = data.get("scene")
     if not isinstance(head, dict) or not isinstance(head.get("command"), str):

@@ -613,13 +613,13 @@ def move_energy(segments, duty) -> tuple[float, float, float]:
     Eq. (29) of Wojtkowiak et al. 2021 with T_max the cycle's peak torque, beside the exact
     integral of the power over the move's acceleration phases (a polynomial per piece).
     """
-    from beltcalc.dutycycle import _pint, _pmul
+    from beltcalc.dutycycle import poly_integral, poly_mul
     from beltcalc.profiles import ACCEL_PHASES
 
     seg_index = next(k for k, seg in enumerate(segments) if seg.kind == "move")
     prof = segments[seg_index].profile
     t_a = prof.accel_time
-    exact = sum(_pint(_pmul(p.torque, p.w), p.duration) for p in duty.pieces
+    exact = sum(poly_integral(poly_mul(p.torque, p.w), p.duration) for p in duty.pieces
                 if p.segment == seg_index and p.phase in ACCEL_PHASES)
     return t_a, duty.peak_torque * prof.peak_speed * t_a, exact
 

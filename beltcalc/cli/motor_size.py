@@ -565,7 +565,7 @@ def _json(s, rows, values, inputs, warnings, scene=None) -> str:
 def _profile_samples(s, per_phase: int = 21):
     """(t, omega, omegadot, torque, power) through the cycle, 21 points per phase, its
     ends as the right limit at the start and the left limit at the end (exact values)."""
-    from beltcalc.dutycycle import _pval
+    from beltcalc.dutycycle import poly_value
 
     d, out = s.shown.duty, []
     by_phase: dict[tuple[int, float], list] = {}
@@ -578,9 +578,9 @@ def _profile_samples(s, per_phase: int = 21):
             piece = pieces[-1] if j == per_phase - 1 else next(
                 (p for p in pieces if p.start <= t < p.start + p.duration), pieces[-1])
             tau = min(max(t - piece.start, 0.0), piece.duration)
-            w = _pval(piece.w, tau)
+            w = poly_value(piece.w, tau)
             wd = piece.w[1] + 2 * piece.w[2] * tau
-            tq = _pval(piece.torque, tau)
+            tq = poly_value(piece.torque, tau)
             out.append((t, w, wd, tq, tq * w))
     return out
 

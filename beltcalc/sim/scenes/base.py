@@ -113,7 +113,7 @@ class Outcome:
         SI unit, display unit, value): what a sweep or study reports per run. A steady-state
         section nested as its window section is (``steady_state/nodes/rotor`` beside
         ``nodes/rotor``: a drive file's) has its key prefixed ``steady_``."""
-        from beltcalc.sim.result import _unit_tag
+        from beltcalc.sim.result import unit_tag
 
         cols = []
         for sec in self.sections:
@@ -121,7 +121,7 @@ class Outcome:
             where = sec.title.split(",")[0] + (" steady" if steady else "")
             name = f"steady_{sec.path[-1]}" if steady and len(sec.path) > 2 else sec.path[-1]
             for row in sec.rows:
-                unit = "" if row.unit in ("", "1") else "_" + _unit_tag(row.unit)
+                unit = "" if row.unit in ("", "1") else "_" + unit_tag(row.unit)
                 cols.append(Column(f"{name}_{row.key}{unit}", f"{where}: {row.label}", row.unit,
                                    row.display or row.unit, row.value))
         return cols

@@ -782,7 +782,7 @@ def _builtin_catalog() -> Catalog:
 
 
 @dataclass(frozen=True)
-class Scene:
+class SceneFile:
     """A ready parameter set (``catalogs/scenes/*.toml``): values as text with units, each
     with the reason it has that value. The command that uses it converts the values."""
 
@@ -803,7 +803,7 @@ def scene_names(command: str | None = None) -> list[str]:
     return names
 
 
-def load_scene(ref: str, command: str | None = None) -> Scene:
+def load_scene(ref: str, command: str | None = None) -> SceneFile:
     """A built-in scene by name (``wdu``) or a scene file by path.
 
     Every parameter is a table ``name = { value = "50 kg", why = "..." }``. A scene may
@@ -852,5 +852,5 @@ def load_scene(ref: str, command: str | None = None) -> Scene:
         if not isinstance(base, str) or base == path.stem:
             reader.fail("scene.base", "must name another scene")
         values = {**load_scene(base).values, **values}
-    return Scene(name=path.stem, title=str(head.get("title", path.stem)), command=head["command"],
+    return SceneFile(name=path.stem, title=str(head.get("title", path.stem)), command=head["command"],
                  source=reader.source, values=values)

@@ -222,7 +222,7 @@ def single_move(profile: Trapezoid) -> tuple[Segment, ...]:
 
 
 @dataclass(frozen=True)
-class Drive:
+class AxisDrive:
     """Everything at the motor shaft except the motor: the belt axis (without its gearbox
     ratio/inertia, which come from ``gearbox``), the mounting and the gearbox."""
 
@@ -272,7 +272,7 @@ class Drive:
 
 
 @dataclass(frozen=True)
-class Piece:
+class CyclePiece:
     """A stretch of the cycle where every quantity is one polynomial of the local time
     s in [0, duration]: speed ``w``, load torque at the gearbox input ``t_load`` (ideal,
     before the efficiency), motor torque ``torque``. ``start`` is the time in the cycle."""
@@ -334,7 +334,7 @@ class BrakingEvent:
 class CycleDuty:
     """Torque, power and energy of a cycle at the motor shaft, SI, exact."""
 
-    pieces: tuple[Piece, ...]
+    pieces: tuple[CyclePiece, ...]
     phases: tuple[PhaseDuty, ...]
     segments: tuple[SegmentDuty, ...]
     events: tuple[BrakingEvent, ...]
@@ -362,7 +362,7 @@ class CycleDuty:
         return poly_value(self.pieces[-1].torque, self.pieces[-1].duration)
 
 
-def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping: float = 0.0) -> CycleDuty:
+def cycle_duty(drive: AxisDrive, segments, motor_inertia: float = 0.0, motor_damping: float = 0.0) -> CycleDuty:
     r"""The motor torque over a cycle, and its peak, RMS, power and energies, exact.
 
     .. math::
@@ -378,7 +378,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
 
     Parameters
     ----------
-    drive : Drive
+    drive : AxisDrive
         Axis, mounting and gearbox
     segments : sequence of Segment
         The cycle
@@ -403,7 +403,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
 
     >>> ax = BeltAxis(mass=10.0, substitute_mass=0.0, pulley_diameter=0.1, pulley_inertia=0.0,
     ...               idler_inertia=0.0, gear_ratio=5.0)
-    >>> d = cycle_duty(Drive(ax, Mounting(incline=math.pi / 2), Gearbox(ratio=5.0)),
+    >>> d = cycle_duty(AxisDrive(ax, Mounting(incline=math.pi / 2), Gearbox(ratio=5.0)),
     ...                [Segment("rest", "dwell", duration=1.0)])
     >>> round(d.holding_torque, 6), round(d.rms_torque, 6)
     (0.980665, 0.980665)
@@ -415,7 +415,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
         raise InputError("a cycle needs at least one segment", param="cycle")
     gb, brake = drive.gearbox, drive.mounting.brake
     j_motor = motor_inertia + gb.inertia
-    pieces: list[Piece] = []
+    pieces: list[CyclePiece] = []
     phase_rows: list[PhaseDuty] = []
     t0 = 0.0
     for k, seg in enumerate(segments):
@@ -448,7 +448,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
                 # cut again where the motor torque changes sign (braking starts or ends)
                 sub = [0.0, *_roots_inside(torque, b - a), b - a] if moving else [0.0, b - a]
                 for c, d in zip(sub, sub[1:]):
-                    pieces.append(Piece(k, ph.name, t0 + a + c, d - c, _pshift(wl, c), _pshift(tl, c),
+                    pieces.append(CyclePiece(k, ph.name, t0 + a + c, d - c, _pshift(wl, c), _pshift(tl, c),
                                         _pshift(torque, c)))
             mine = pieces[first:]
             sq = sum(poly_integral(poly_mul(p.torque, p.torque), p.duration) for p in mine)

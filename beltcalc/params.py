@@ -91,7 +91,7 @@ class Resolved:
 def resolve(scene, params: Sequence[Param], given: Mapping[str, object] | None = None) -> dict[str, Resolved]:
     """Each parameter from ``given`` (SI values; None = not given), else from the scene file.
 
-    ``scene`` is a :class:`beltcalc.catalogs.Scene`. A scene value that cannot be read, a
+    ``scene`` is a :class:`beltcalc.catalogs.SceneFile`. A scene value that cannot be read, a
     key that is no parameter, or a required value that is missing, is a
     :class:`~beltcalc.errors.CatalogError` naming the scene file and the key (a missing
     one also names the parameter, ``scope="scene"``: it may be given instead).

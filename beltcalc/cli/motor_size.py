@@ -223,7 +223,7 @@ def _no_scene(given, replaced):
     """``--scene none``: a scene without values; every value the run uses must be an option,
     all the missing ones named in one message (those a cycle, a move time or a catalog
     gearbox replaces stand in as unused)."""
-    from beltcalc.catalogs import Scene, Source
+    from beltcalc.catalogs import SceneFile, Source
     from beltcalc.cli.main import option_name
 
     missing = [option_name(p.name) for p in PARAMS
@@ -233,7 +233,7 @@ def _no_scene(given, replaced):
                                  f"({len(missing)} missing), or start from a scene file of your own "
                                  "(catalogs/scenes/wdu.toml is one)", param_hint="--scene")
     unused = {k: (_UNUSED[k], "not used: replaced by the cycle, the move time or the gearbox") for k in replaced}
-    return Scene(name="none", title="your axis (no scene)", command="motor-size",
+    return SceneFile(name="none", title="your axis (no scene)", command="motor-size",
                  source=Source("the command line"), values=unused)
 
 

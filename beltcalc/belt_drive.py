@@ -451,7 +451,7 @@ def _paper_tension(inp: BeltDriveInputs, belt: BeltProfile, d1: float) -> float 
     """F_t,peak of eq. (10)-(12) [5] for a linear axis with a mass; None otherwise."""
     if inp.layout != "linear" or inp.mass is None or inp.accel is None:
         return None
-    from beltcalc.tension import TensionInputs, _damping
+    from beltcalc.tension import TensionInputs, belt_damping
 
     row = belt.width_row(inp.width)
     if row.w_spec is None:
@@ -461,7 +461,7 @@ def _paper_tension(inp: BeltDriveInputs, belt: BeltProfile, d1: float) -> float 
                           pulley_diameter=d1)
     teeth = bm.teeth_on_span(inp.center_distance, belt.pitch)
     m_tb = bm.substitute_mass(bm.belt_mass_on_span(row.w_spec, inp.center_distance), teeth)
-    damping, _, _ = _damping(t_inp, belt, teeth)
+    damping, _, _ = belt_damping(t_inp, belt, teeth)
     return bm.tension_peak(m_tb, inp.mass, inp.accel, inp.tension_accel, inp.tension_speed, damping)
 
 

@@ -323,7 +323,7 @@ def _check_depth(shown: str, data: dict) -> None:
                 stack.append((value, depth + 1, inner))
 
 
-class _Reader:
+class CatalogReader:
     """Reads one catalog file; every error names the file and the key."""
 
     def __init__(self, path: Path, allowed=("source", "units", "belts", "threads", "motors", "chains",
@@ -618,7 +618,7 @@ class Catalog:
     files: list[str] = field(default_factory=list)
 
     def add_file(self, path: Path) -> None:
-        reader = _Reader(path)
+        reader = CatalogReader(path)
         for kind, items in (("belts", reader.belts()), ("threads", reader.threads()),
                             ("motors", reader.motors()), ("chains", reader.chains())):
             for item in items:
@@ -782,7 +782,7 @@ def _builtin_catalog() -> Catalog:
 
 
 @dataclass(frozen=True)
-class Scene:
+class SceneFile:
     """A ready parameter set (``catalogs/scenes/*.toml``): values as text with units, each
     with the reason it has that value. The command that uses it converts the values."""
 
@@ -803,7 +803,7 @@ def scene_names(command: str | None = None) -> list[str]:
     return names
 
 
-def load_scene(ref: str, command: str | None = None) -> Scene:
+def load_scene(ref: str, command: str | None = None) -> SceneFile:
     """A built-in scene by name (``wdu``) or a scene file by path.
 
     Every parameter is a table ``name = { value = "50 kg", why = "..." }``. A scene may
@@ -828,7 +828,7 @@ def load_scene(ref: str, command: str | None = None) -> Scene:
             hint = f"; {hint}" if hint else ""
             raise UnknownNameError(f"unknown scene {quote(ref)}{hint} (built-in: {', '.join(known)}; "
                                    "or give a .toml path)", param="scene")
-    reader = _Reader(path, allowed=("source", "scene", "parameters"))
+    reader = CatalogReader(path, allowed=("source", "scene", "parameters"))
     data = reader.data
     head = data.get("scene")
     if not isinstance(head, dict) or not isinstance(head.get("command"), str):
@@ -852,5 +852,5 @@ def load_scene(ref: str, command: str | None = None) -> Scene:
         if not isinstance(base, str) or base == path.stem:
             reader.fail("scene.base", "must name another scene")
         values = {**load_scene(base).values, **values}
-    return Scene(name=path.stem, title=str(head.get("title", path.stem)), command=head["command"],
+    return SceneFile(name=path.stem, title=str(head.get("title", path.stem)), command=head["command"],
                  source=reader.source, values=values)

@@ -47,7 +47,7 @@ from beltcalc.profiles import Phase, Trapezoid
 # --- polynomials as coefficient tuples (c0, c1, c2, ...) in the local time of a piece ----------
 
 
-def _pval(p: tuple[float, ...], t: float) -> float:
+def poly_value(p: tuple[float, ...], t: float) -> float:
     out = 0.0
     for c in reversed(p):
         out = out * t + c
@@ -63,7 +63,7 @@ def _pscale(p: tuple[float, ...], k: float) -> tuple[float, ...]:
     return tuple(k * c for c in p)
 
 
-def _pmul(p: tuple[float, ...], q: tuple[float, ...]) -> tuple[float, ...]:
+def poly_mul(p: tuple[float, ...], q: tuple[float, ...]) -> tuple[float, ...]:
     out = [0.0] * (len(p) + len(q) - 1)
     for i, a in enumerate(p):
         for j, b in enumerate(q):
@@ -71,7 +71,7 @@ def _pmul(p: tuple[float, ...], q: tuple[float, ...]) -> tuple[float, ...]:
     return tuple(out)
 
 
-def _pint(p: tuple[float, ...], t: float) -> float:
+def poly_integral(p: tuple[float, ...], t: float) -> float:
     """Integral of p from 0 to t (exact for a polynomial)."""
     return sum(c * t ** (k + 1) / (k + 1) for k, c in enumerate(p))
 
@@ -114,7 +114,7 @@ def _quad_min(p: tuple[float, ...], duration: float) -> tuple[float, float]:
         v = -p[1] / (2 * p[2])
         if 0 < v < duration:
             cands.append(v)
-    return min((_pval(p, t), t) for t in cands)
+    return min((poly_value(p, t), t) for t in cands)
 
 
 # --- the axis and the cycle ------------------------------------------------------------------
@@ -222,7 +222,7 @@ def single_move(profile: Trapezoid) -> tuple[Segment, ...]:
 
 
 @dataclass(frozen=True)
-class Drive:
+class AxisDrive:
     """Everything at the motor shaft except the motor: the belt axis (without its gearbox
     ratio/inertia, which come from ``gearbox``), the mounting and the gearbox."""
 
@@ -272,7 +272,7 @@ class Drive:
 
 
 @dataclass(frozen=True)
-class Piece:
+class CyclePiece:
     """A stretch of the cycle where every quantity is one polynomial of the local time
     s in [0, duration]: speed ``w``, load torque at the gearbox input ``t_load`` (ideal,
     before the efficiency), motor torque ``torque``. ``start`` is the time in the cycle."""
@@ -286,7 +286,7 @@ class Piece:
     torque: tuple[float, ...]
 
     def power(self) -> tuple[float, ...]:
-        return _pmul(self.torque, self.w)
+        return poly_mul(self.torque, self.w)
 
 
 @dataclass(frozen=True)
@@ -335,7 +335,7 @@ class BrakingEvent:
 class CycleDuty:
     """Torque, power and energy of a cycle at the motor shaft, SI, exact."""
 
-    pieces: tuple[Piece, ...]
+    pieces: tuple[CyclePiece, ...]
     phases: tuple[PhaseDuty, ...]
     segments: tuple[SegmentDuty, ...]
     events: tuple[BrakingEvent, ...]
@@ -359,11 +359,11 @@ class CycleDuty:
         for p in self.pieces:
             end = p.start + p.duration
             if p.start <= t < end or (side == "left" and p.start < t <= end):
-                return _pval(p.torque, t - p.start)
-        return _pval(self.pieces[-1].torque, self.pieces[-1].duration)
+                return poly_value(p.torque, t - p.start)
+        return poly_value(self.pieces[-1].torque, self.pieces[-1].duration)
 
 
-def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping: float = 0.0) -> CycleDuty:
+def cycle_duty(drive: AxisDrive, segments, motor_inertia: float = 0.0, motor_damping: float = 0.0) -> CycleDuty:
     r"""The motor torque over a cycle, and its peak, RMS, power and energies, exact.
 
     .. math::
@@ -379,7 +379,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
 
     Parameters
     ----------
-    drive : Drive
+    drive : AxisDrive
         Axis, mounting and gearbox
     segments : sequence of Segment
         The cycle
@@ -404,7 +404,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
 
     >>> ax = BeltAxis(mass=10.0, substitute_mass=0.0, pulley_diameter=0.1, pulley_inertia=0.0,
     ...               idler_inertia=0.0, gear_ratio=5.0)
-    >>> d = cycle_duty(Drive(ax, Mounting(incline=math.pi / 2), Gearbox(ratio=5.0)),
+    >>> d = cycle_duty(AxisDrive(ax, Mounting(incline=math.pi / 2), Gearbox(ratio=5.0)),
     ...                [Segment("rest", "dwell", duration=1.0)])
     >>> round(d.holding_torque, 6), round(d.rms_torque, 6)
     (0.980665, 0.980665)
@@ -416,7 +416,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
         raise InputError("a cycle needs at least one segment", param="cycle")
     gb, brake = drive.gearbox, drive.mounting.brake
     j_motor = motor_inertia + gb.inertia
-    pieces: list[Piece] = []
+    pieces: list[CyclePiece] = []
     phase_rows: list[PhaseDuty] = []
     t0 = 0.0
     for k, seg in enumerate(segments):
@@ -436,7 +436,7 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
             for a, b in zip(cuts, cuts[1:]):
                 wl, tl, mo = _pshift(w, a), _pshift(t_load, a), _pshift(motor_own, a)
                 mid = 0.5 * (b - a)
-                flow = _pval(tl, mid) * _pval(wl, mid)
+                flow = poly_value(tl, mid) * poly_value(wl, mid)
                 if not moving:
                     factor = 0.0 if brake else 1.0
                 elif flow > 0:
@@ -449,10 +449,10 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
                 # cut again where the motor torque changes sign (braking starts or ends)
                 sub = [0.0, *_roots_inside(torque, b - a), b - a] if moving else [0.0, b - a]
                 for c, d in zip(sub, sub[1:]):
-                    pieces.append(Piece(k, ph.name, t0 + a + c, d - c, _pshift(wl, c), _pshift(tl, c),
+                    pieces.append(CyclePiece(k, ph.name, t0 + a + c, d - c, _pshift(wl, c), _pshift(tl, c),
                                         _pshift(torque, c)))
             mine = pieces[first:]
-            sq = sum(_pint(_pmul(p.torque, p.torque), p.duration) for p in mine)
+            sq = sum(poly_integral(poly_mul(p.torque, p.torque), p.duration) for p in mine)
             peak, piece, where = -1.0, mine[0], 0.0
             for p in mine:          # the piece and the time of the largest |T|: its signed torque
                 size, at = _abs_peak(p.torque, p.duration)
@@ -460,9 +460,9 @@ def cycle_duty(drive: Drive, segments, motor_inertia: float = 0.0, motor_damping
                     peak, piece, where = size, p, at
             phase_rows.append(PhaseDuty(
                 segment=k, segment_name=seg.name, name=ph.name, start=t0, duration=tau,
-                speed0=w[0], speed1=_pval(w, tau), torque0=_pval(mine[0].torque, 0.0),
-                torque1=_pval(mine[-1].torque, mine[-1].duration),
-                peak=peak, rms=math.sqrt(sq / tau), extreme=_pval(piece.torque, where)))
+                speed0=w[0], speed1=poly_value(w, tau), torque0=poly_value(mine[0].torque, 0.0),
+                torque1=poly_value(mine[-1].torque, mine[-1].duration),
+                peak=peak, rms=math.sqrt(sq / tau), extreme=poly_value(piece.torque, where)))
             t0 += tau
     cycle = t0
     return _summarise(tuple(pieces), tuple(phase_rows), segments, cycle)
@@ -475,7 +475,7 @@ def _abs_peak(p: tuple[float, ...], duration: float) -> tuple[float, float]:
         v = -p[1] / (2 * p[2])
         if 0 < v < duration:
             cands.append(v)
-    return max((abs(_pval(p, t)), t) for t in cands)
+    return max((abs(poly_value(p, t)), t) for t in cands)
 
 
 def _summarise(pieces, phase_rows, segments, cycle) -> CycleDuty:
@@ -493,26 +493,26 @@ def _summarise(pieces, phase_rows, segments, cycle) -> CycleDuty:
     seg_acc = {k: [0.0, 0.0, 0.0, 0.0, 0.0] for k in range(len(segments))}  # sq, peak, e+, e-, w
     for p in pieces:
         tq, w, dur = p.torque, p.w, p.duration
-        sq = _pint(_pmul(tq, tq), dur)
+        sq = poly_integral(poly_mul(tq, tq), dur)
         sq_total += sq
-        sq_load += _pint(_pmul(p.t_load, p.t_load), dur)
+        sq_load += poly_integral(poly_mul(p.t_load, p.t_load), dur)
         pk, where = _abs_peak(tq, dur)
         if pk > peak:
             peak, peak_t = pk, p.start + where
         load_peak = max(load_peak, _abs_peak(p.t_load, dur)[0])
-        pw = _pmul(tq, w)   # sign-definite on a piece (cut at the zeros of T; w keeps its sign)
-        e = _pint(pw, dur)
+        pw = poly_mul(tq, w)   # sign-definite on a piece (cut at the zeros of T; w keeps its sign)
+        e = poly_integral(pw, dur)
         if e < 0 and pk > abs(braking_torque):   # the largest torque while braking, with its sign
-            braking_torque = math.copysign(pk, _pval(tq, 0.5 * dur))
-        pmax = max(_pval(pw, 0.0), _pval(pw, dur), *([_pval(pw, t) for t in _vertices(pw, dur)]))
-        pmin = min(_pval(pw, 0.0), _pval(pw, dur), *([_pval(pw, t) for t in _vertices(pw, dur)]))
+            braking_torque = math.copysign(pk, poly_value(tq, 0.5 * dur))
+        pmax = max(poly_value(pw, 0.0), poly_value(pw, dur), *([poly_value(pw, t) for t in _vertices(pw, dur)]))
+        pmin = min(poly_value(pw, 0.0), poly_value(pw, dur), *([poly_value(pw, t) for t in _vertices(pw, dur)]))
         peak_power = max(peak_power, pmax)
-        wmax = max(abs(_pval(w, 0.0)), abs(_pval(w, dur)))
+        wmax = max(abs(poly_value(w, 0.0)), abs(poly_value(w, dur)))
         acc = seg_acc[p.segment]
         acc[0] += sq
         acc[1] = max(acc[1], pk)
         acc[4] = max(acc[4], wmax)
-        angle += abs(_pint(w, dur))
+        angle += abs(poly_integral(w, dur))
         if w == (0.0, 0.0, 0.0) or all(c == 0 for c in w):
             holding = max(holding, pk)
         if e >= 0:
@@ -712,7 +712,7 @@ def zone_check(duty: CycleDuty, points: tuple[tuple[float, float], ...], peak_ma
     speeds = [w for w, _ in points]
     best = None
     for p in duty.pieces:
-        sign_w = 1.0 if _pval(p.w, 0.5 * p.duration) >= 0 else -1.0
+        sign_w = 1.0 if poly_value(p.w, 0.5 * p.duration) >= 0 else -1.0
         aw = _pscale(p.w, sign_w)
         cuts = [0.0]
         for w_k in speeds[1:]:
@@ -721,7 +721,7 @@ def zone_check(duty: CycleDuty, points: tuple[tuple[float, float], ...], peak_ma
         for a, b in zip(cuts, cuts[1:]):
             if b - a <= 0:
                 continue
-            mid_w = _pval(aw, 0.5 * (a + b))
+            mid_w = poly_value(aw, 0.5 * (a + b))
             if mid_w > speeds[-1] * (1 + 1e-12):
                 continue
             idx = max(0, min(len(points) - 2, next((i for i in range(len(points) - 1)
@@ -730,12 +730,12 @@ def zone_check(duty: CycleDuty, points: tuple[tuple[float, float], ...], peak_ma
             slope = (t1 - t0) / (w1 - w0)
             lim = _padd((t0 - slope * w0,), _pscale(_pshift(aw, a), slope))
             tq = _pshift(p.torque, a)
-            sgn = 1.0 if _pval(tq, 0.5 * (b - a)) >= 0 else -1.0
+            sgn = 1.0 if poly_value(tq, 0.5 * (b - a)) >= 0 else -1.0
             g = _padd(lim, _pscale(tq, -k * sgn))
             val, where = _quad_min(g, b - a)
             if best is None or val < best[0]:
-                wv = _pval(aw, a + where)
-                best = (val, p.start + a + where, wv, _pval(p.torque, a + where), _pval(lim, where),
+                wv = poly_value(aw, a + where)
+                best = (val, p.start + a + where, wv, poly_value(p.torque, a + where), poly_value(lim, where),
                         p.segment, p.phase)
     if best is None:
         return ZoneCheck(math.inf, 0.0, 0.0, 0.0, points[0][1])

@@ -29,7 +29,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Iterable
 
-from beltcalc.catalogs import _Reader, builtin_dir
+from beltcalc.catalogs import CatalogReader, builtin_dir
 from beltcalc.dutycycle import Gearbox
 from beltcalc.errors import UnknownNameError, did_you_mean
 from beltcalc.units import quote
@@ -45,7 +45,7 @@ def load_gearboxes(extra: Iterable[str | Path] = ()) -> dict[str, Gearbox]:
     paths = sorted(folder.glob("*.toml")) if folder.is_dir() else []
     out: dict[str, Gearbox] = {}
     for path in [*paths, *map(Path, extra)]:
-        reader = _Reader(Path(path), allowed=("source", "units", "gearboxes"))
+        reader = CatalogReader(Path(path), allowed=("source", "units", "gearboxes"))
         for i, e in enumerate(reader.entries("gearboxes")):
             where = f"gearboxes[{i}]"
             reader.check_keys(e, _KEYS, where)

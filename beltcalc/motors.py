@@ -22,7 +22,7 @@ from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.profiles import Trapezoid
 
 if TYPE_CHECKING:
-    from beltcalc.dutycycle import CycleDuty, Drive, Segment, ZoneCheck
+    from beltcalc.dutycycle import CycleDuty, AxisDrive, Segment, ZoneCheck
 
 BAND = (0.5, 1.0)  # preferred RMS utilisation of the rated torque
 
@@ -211,7 +211,7 @@ def intermittent_zone(motor: Motor, end_fraction: float | None = None) -> tuple[
     return assumed_zone(motor.T_max, end, motor.n_rated, motor.n_max), True
 
 
-def check_cycle(drive: "Drive", segments: "Sequence[Segment]", motor: Motor, efficiency: float,
+def check_cycle(drive: "AxisDrive", segments: "Sequence[Segment]", motor: Motor, efficiency: float,
                 ratio_limit: float = 10.0, peak_margin: float = 0.0,
                 end_fraction: float | None = None) -> MotorCheck:
     """A duty cycle driven by ``motor``: peak, RMS (or the continuous zone at the mean
@@ -240,7 +240,7 @@ def check_cycle(drive: "Drive", segments: "Sequence[Segment]", motor: Motor, eff
     )
 
 
-def choose_for_cycle(drive: "Drive", segments: "Sequence[Segment]", motors: list[Motor], efficiency: float,
+def choose_for_cycle(drive: "AxisDrive", segments: "Sequence[Segment]", motors: list[Motor], efficiency: float,
                      ratio_limit: float = 10.0, peak_margin: float = 0.0,
                      end_fraction: float | None = None) -> Choice:
     """:func:`choose_motor` for a duty cycle: the same rules, and the zone check too.

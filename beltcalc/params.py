@@ -154,14 +154,14 @@ def parse_assignments(params: Sequence[Param], items: Iterable[str]) -> dict[str
             out[name] = param.parse(text)
         except (QuantityError, ValueError) as exc:
             message = str(exc)
-            if _bare_number(text) and param.unit not in (None, "", "int"):
+            if bare_number(text) and param.unit not in (None, "", "int"):
                 examples = " or ".join(f"'{name}={text.strip()} {example_unit(u)}'" for u in param.unit.split("|"))
                 message = f"{name} needs a unit, e.g. {examples}"
             raise UsageError(f"{quote(item)}: {message}", param="set") from None
     return out
 
 
-def _bare_number(text: str) -> bool:
+def bare_number(text: str) -> bool:
     try:
         float(text)
     except ValueError:
@@ -229,14 +229,14 @@ def sweep_points(params: Sequence[Param], text: str, example: str = "") -> tuple
         raise UsageError(f"{quote(text)}: N must be a whole number", param="sweep") from None
     if not 1 <= n <= 10000:
         raise UsageError(f"{quote(text)}: N must be 1..10000", param="sweep")
-    if param is not None and param.unit not in ("", "int") and any(_bare_number(p) for p in parts[:2]):
+    if param is not None and param.unit not in ("", "int") and any(bare_number(p) for p in parts[:2]):
         unit = example_unit(param.unit)
         raise UsageError(f"{quote(text)}: {name} needs units on START and STOP, e.g. "
                          f"'{name}={parts[0].strip()}{unit}:{parts[1].strip()}{unit}:{parts[2].strip()}'",
                          param="sweep")
     bounds = []
     for part in parts[:2]:
-        if param is not None and param.unit == "int" and _bare_number(part) and float(part) == int(float(part)):
+        if param is not None and param.unit == "int" and bare_number(part) and float(part) == int(float(part)):
             part = str(int(float(part)))      # rollers=1:20:20 as well as 1.0:20.0
         try:
             bounds.append(parse_assignments([param] if param else params, [f"{name}={part}"])[name])

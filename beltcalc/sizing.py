@@ -17,7 +17,7 @@ from beltcalc import belt as bm
 from beltcalc.catalogs import BeltProfile, Motor
 from beltcalc.checks import RULES, Check, failures
 from beltcalc.drive import BeltAxis, cylinder_inertia
-from beltcalc.dutycycle import (CycleDuty, Drive, Gearbox, Mounting, Regeneration, Segment, capacitor_energy,
+from beltcalc.dutycycle import (CycleDuty, AxisDrive, Gearbox, Mounting, Regeneration, Segment, capacitor_energy,
                                 regeneration)
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.motors import Choice, MotorCheck, check_cycle, choose_for_cycle, motor_checks
@@ -264,7 +264,7 @@ def sweep(inp: SizingInputs, belt: BeltProfile, motor: Motor | None, name: str,
     if name not in SWEEPABLE:
         raise InputError(f"cannot sweep {name!r}; sweepable: {', '.join(SWEEPABLE)}", param="sweep")
     axis, _ = build_axis(inp, belt)
-    drive = Drive(axis)
+    drive = AxisDrive(axis)
     j_m = b_m = 0.0
     if motor is not None:
         eta = motor.efficiency if motor.efficiency is not None else inp.motor_efficiency
@@ -376,7 +376,7 @@ class CycleSizing:
     the reported motor's regeneration, the gearbox checks, warnings and assumptions."""
 
     axis: BeltAxis
-    drive: Drive
+    drive: AxisDrive
     segments: tuple[Segment, ...]
     choice: Choice
     shown: MotorCheck | None
@@ -542,7 +542,7 @@ def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor:
                           else gb_cat.efficiency_back)
     else:
         gearbox = Gearbox(inp.gear_ratio, inp.gearbox_inertia, opts.gear_efficiency, opts.gear_efficiency_back)
-    drive = Drive(axis, Mounting(opts.incline, opts.counterweight, opts.brake), gearbox)
+    drive = AxisDrive(axis, Mounting(opts.incline, opts.counterweight, opts.brake), gearbox)
     segments = cycle_segments(inp, axis, opts)
     choice = choose_for_cycle(drive, segments, motors, inp.motor_efficiency, inp.inertia_ratio_limit,
                               inp.peak_margin, opts.zone_end)
@@ -613,13 +613,13 @@ def move_energy(segments, duty) -> tuple[float, float, float]:
     Eq. (29) of Wojtkowiak et al. 2021 with T_max the cycle's peak torque, beside the exact
     integral of the power over the move's acceleration phases (a polynomial per piece).
     """
-    from beltcalc.dutycycle import _pint, _pmul
+    from beltcalc.dutycycle import poly_integral, poly_mul
     from beltcalc.profiles import ACCEL_PHASES
 
     seg_index = next(k for k, seg in enumerate(segments) if seg.kind == "move")
     prof = segments[seg_index].profile
     t_a = prof.accel_time
-    exact = sum(_pint(_pmul(p.torque, p.w), p.duration) for p in duty.pieces
+    exact = sum(poly_integral(poly_mul(p.torque, p.w), p.duration) for p in duty.pieces
                 if p.segment == seg_index and p.phase in ACCEL_PHASES)
     return t_a, duty.peak_torque * prof.peak_speed * t_a, exact
 

@@ -136,7 +136,7 @@ def _finite(value: float, what: str, param: str, unit: str) -> float:
                      param=param)
 
 
-def _damping(inp: TensionInputs, belt: BeltProfile, teeth: float) -> tuple[float, str, bm.DampingFit | None]:
+def belt_damping(inp: TensionInputs, belt: BeltProfile, teeth: float) -> tuple[float, str, bm.DampingFit | None]:
     if inp.damping is not None:
         if not (math.isfinite(inp.damping) and inp.damping >= 0):
             raise InputError(f"{inp.damping:g} N*s/m is not allowed; it must be >= 0 N*s/m", param="damping")
@@ -194,7 +194,7 @@ def design_tension(inp: TensionInputs, belt: BeltProfile, thread: Thread) -> Ten
         if k_tb == 0:
             raise InputError(f"{a:g} m makes k_TB = C_spec / a zero; give a value in a physical range",
                              param="center_distance")
-    b_tb, b_text, fit = _damping(inp, belt, teeth)
+    b_tb, b_text, fit = belt_damping(inp, belt, teeth)
 
     force = _finite(bm.tension_peak(m_tb, inp.mass, inp.accel, inp.tension_accel, inp.tension_speed, b_tb),
                     "F_t,peak (lower `accel`, `tension_accel` or `tension_speed`)", "mass", "N")

@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from beltcalc.drive import G0, BeltAxis, duty
-from beltcalc.dutycycle import (Drive, Gearbox, Mounting, Segment, assumed_zone, capacitor_energy, cycle_duty,
+from beltcalc.dutycycle import (AxisDrive, Gearbox, Mounting, Segment, assumed_zone, capacitor_energy, cycle_duty,
                                 regeneration, single_move, zone_check)
 from beltcalc.errors import InputError
 from beltcalc.profiles import move_by_time, scurve, trapezoid
@@ -34,7 +34,7 @@ def axis(**kw):
 
 # --- the independent reference ----------------------------------------------------------------
 
-def reference(drive: Drive, segments, j_m: float, b_m: float):
+def reference(drive: AxisDrive, segments, j_m: float, b_m: float):
     """(list of (t0, t1, torque(t), speed(t), load torque(t))) of the cycle, the torque evaluated from the
     physics at each instant (no polynomials, no pre-cut pieces)."""
     ax, gb, mt = drive.axis, drive.gearbox, drive.mounting
@@ -105,7 +105,7 @@ def test_one_move_equals_todays_duty():
     ax = axis()
     prof = trapezoid(300.0, 4000.0, 200.0, dwell=0.3)
     j_m, b_m = 1e-4, 5e-4
-    new = cycle_duty(Drive(ax), single_move(prof), j_m, b_m)
+    new = cycle_duty(AxisDrive(ax), single_move(prof), j_m, b_m)
     old = duty(prof, j_m + ax.load_inertia_total, ax.damping(b_m), ax.resistance_torque)
     for key in ("peak_torque", "rms_torque", "peak_power", "braking_torque", "braking_energy", "cycle_time"):
         assert getattr(new, key) == pytest.approx(getattr(old, key), rel=1e-13), key
@@ -152,7 +152,7 @@ def test_size_axis_is_size_cycle_and_the_sweep_its_duty():
 def test_one_move_equals_todays_duty_for_any_move(speed, accel, stroke, dwell, mass, b_m):
     ax = axis(mass=mass)
     prof = trapezoid(speed, accel, stroke, dwell)
-    new = cycle_duty(Drive(ax), single_move(prof), 1e-4, b_m)
+    new = cycle_duty(AxisDrive(ax), single_move(prof), 1e-4, b_m)
     old = duty(prof, 1e-4 + ax.load_inertia_total, ax.damping(b_m), ax.resistance_torque)
     for key in ("peak_torque", "rms_torque", "peak_power", "braking_energy"):
         assert getattr(new, key) == pytest.approx(getattr(old, key), rel=1e-12, abs=1e-12), key
@@ -164,7 +164,7 @@ def cycle_mixed():
     """Two S-curve moves with other payloads and a process force, dwells with and without force,
     a 30 deg incline and a gearbox of 0.85 driving / 0.7 back-driven."""
     ax = axis()
-    drive = Drive(ax, Mounting(incline=math.radians(30.0)), Gearbox(5.0, 2e-5, 0.85, 0.7))
+    drive = AxisDrive(ax, Mounting(incline=math.radians(30.0)), Gearbox(5.0, 2e-5, 0.85, 0.7))
     segs = [
         Segment("up", "move", profile=scurve(300.0, 5000.0, 2e5, 150.0), direction=1, payload=4.0, force=20.0),
         Segment("press", "dwell", duration=0.2, payload=4.0, force=-60.0),
@@ -179,7 +179,7 @@ def cycle_mixed():
 @pytest.mark.parametrize("brake", [False, True])
 def test_rms_and_energies_against_quadrature(brake):
     drive, segs = cycle_mixed()
-    drive = Drive(drive.axis, Mounting(drive.mounting.incline, 0.0, brake), drive.gearbox)
+    drive = AxisDrive(drive.axis, Mounting(drive.mounting.incline, 0.0, brake), drive.gearbox)
     j_m, b_m = 1.5e-4, 8e-4
     d = cycle_duty(drive, segs, j_m, b_m)
     ref = reference(drive, segs, j_m, b_m)
@@ -211,7 +211,7 @@ def test_right_continuous_acceleration_peak_is_the_left_limit():
     # not the cruise torque that a sample at t = t_a would see
     ax = axis(bearing_damping=0.0, guide_damping=0.0, resistance=0.0, guide_friction=0.0)
     prof = trapezoid(100.0, 1000.0, 50.0)
-    d = cycle_duty(Drive(ax), single_move(prof), 1e-4, 1e-3)
+    d = cycle_duty(AxisDrive(ax), single_move(prof), 1e-4, 1e-3)
     j = 1e-4 + ax.load_inertia_total
     assert d.peak_torque == pytest.approx(j * 1000.0 + 1e-3 * 100.0, rel=1e-13)
     assert d.peak_time == pytest.approx(0.1, rel=1e-13)
@@ -226,22 +226,22 @@ def test_vertical_axis_at_rest_holds_m_g_D_over_2_i():
     # also with gearbox efficiency 0.8 (at rest no power flows) and whatever the friction
     ax = axis()
     seg = [Segment("hold", "dwell", duration=1.0, payload=2.0)]
-    d = cycle_duty(Drive(ax, Mounting(incline=math.pi / 2), Gearbox(5.0, 2e-5, 0.8)), seg, 1e-4, 1e-3)
+    d = cycle_duty(AxisDrive(ax, Mounting(incline=math.pi / 2), Gearbox(5.0, 2e-5, 0.8)), seg, 1e-4, 1e-3)
     assert d.holding_torque == pytest.approx(12 * 9.80665 * 0.05 / 5, rel=1e-13)
     assert d.rms_torque == pytest.approx(1.176798, rel=1e-6)
     # upside down: -90 deg holds the same torque the other way
-    d2 = cycle_duty(Drive(ax, Mounting(incline=-math.pi / 2)), seg, 1e-4, 1e-3)
+    d2 = cycle_duty(AxisDrive(ax, Mounting(incline=-math.pi / 2)), seg, 1e-4, 1e-3)
     assert d2.peak_torque == pytest.approx(1.176798, rel=1e-6)
     assert d2.phases[0].torque0 == pytest.approx(-1.176798, rel=1e-6)
     # a brake holds instead of the motor; a counterweight of the whole mass balances it
-    assert cycle_duty(Drive(ax, Mounting(math.pi / 2, brake=True)), seg).rms_torque == 0.0
-    assert cycle_duty(Drive(ax, Mounting(math.pi / 2, counterweight=12.0)), seg).holding_torque == \
+    assert cycle_duty(AxisDrive(ax, Mounting(math.pi / 2, brake=True)), seg).rms_torque == 0.0
+    assert cycle_duty(AxisDrive(ax, Mounting(math.pi / 2, counterweight=12.0)), seg).holding_torque == \
         pytest.approx(0.0, abs=1e-15)
 
 
 def test_incline_30_degrees_at_rest():
     # sin 30 = 1/2: 10 kg * 9.80665 / 2 * 0.05 / 5 = 0.4903325 N m
-    d = cycle_duty(Drive(axis(), Mounting(incline=math.radians(30.0))), [Segment("rest", "dwell", duration=0.5)])
+    d = cycle_duty(AxisDrive(axis(), Mounting(incline=math.radians(30.0))), [Segment("rest", "dwell", duration=0.5)])
     assert d.holding_torque == pytest.approx(0.4903325, rel=1e-12)
 
 
@@ -252,7 +252,7 @@ def test_lowering_returns_the_potential_energy_times_the_back_efficiency():
     # keeps holding (T > 0) while omega < 0: the energy fed back is exactly eta_b m g L
     ax = axis(bearing_damping=0.0, guide_damping=0.0, resistance=0.0, guide_friction=0.0, substitute_mass=0.0)
     prof = scurve(100.0, 500.0, 2e4, 80.0)
-    drive = Drive(ax, Mounting(incline=math.pi / 2), Gearbox(5.0, 2e-5, 0.9, 0.75))
+    drive = AxisDrive(ax, Mounting(incline=math.pi / 2), Gearbox(5.0, 2e-5, 0.9, 0.75))
     d = cycle_duty(drive, [Segment("down", "move", profile=prof, direction=-1)], 1e-4, 0.0)
     lowered = 80.0 * R / 5.0                                  # 0.8 m
     assert all(p.torque0 > 0 and p.torque1 > 0 for p in d.phases)   # holding all the way
@@ -293,14 +293,14 @@ def test_assumed_zone_fails_a_motor_that_passes_the_flat_check_at_high_speed():
     # and fails the zone by 0.37 - 0.595 = -0.225 N m at the end of the acceleration (t = 0.19 s).
     ax = BeltAxis(mass=1e-9, substitute_mass=0.0, pulley_diameter=0.1, pulley_inertia=0.0, idler_inertia=0.0)
     prof = trapezoid(190.0, 1000.0, 100.0)
-    d = cycle_duty(Drive(ax), single_move(prof), 0.5e-3, 0.5e-3)
+    d = cycle_duty(AxisDrive(ax), single_move(prof), 0.5e-3, 0.5e-3)
     assert d.peak_torque == pytest.approx(0.595, rel=1e-6)
     z = zone_check(d, assumed_zone(1.0, 0.3, 100.0, 200.0))
     assert not z.ok
     assert z.margin == pytest.approx(0.37 - 0.595, rel=1e-6)
     assert (z.time, z.speed, z.limit) == pytest.approx((0.19, 190.0, 0.37), rel=1e-9)
     # the same move at 100 rad/s stays on the flat part: margin T_max - peak
-    slow = cycle_duty(Drive(ax), single_move(trapezoid(100.0, 1000.0, 100.0)), 0.5e-3, 0.5e-3)
+    slow = cycle_duty(AxisDrive(ax), single_move(trapezoid(100.0, 1000.0, 100.0)), 0.5e-3, 0.5e-3)
     z2 = zone_check(slow, assumed_zone(1.0, 0.3, 100.0, 200.0))
     assert z2.ok and z2.margin == pytest.approx(1.0 - 0.55, rel=1e-7)   # the 1e-9 kg carriage: 2.5e-9 N m
 
@@ -331,7 +331,7 @@ def test_zone_minimum_inside_a_phase_against_a_fine_search():
     (lambda: Segment("x", "hover"), "cycle"),
     (lambda: Segment("x", "dwell", duration=1.0, direction=2), "cycle"),
     (lambda: capacitor_energy(1e-3, 380.0, 325.0), "chopper_voltage"),
-    (lambda: cycle_duty(Drive(axis()), []), "cycle"),
+    (lambda: cycle_duty(AxisDrive(axis()), []), "cycle"),
 ])
 def test_bad_inputs_name_the_parameter(make, param):
     with pytest.raises(InputError) as exc:

@@ -241,7 +241,7 @@ def test_a_phase_peak_inside_the_phase():
     # J = 0.05 (rotor) + 20 kg (0.1 m / 2)^2 = 0.1 kg m^2, b = 1 N m s/rad, nothing else:
     # T(t) = J (10 - 20 t) + b (10 + 10 t - 10 t^2); T' = -2 + 10 - 20 t = 0 at t = 0.4 s,
     # T(0.4) = 0.1 * 2 + (10 + 4 - 1.6) = 12.6 N m, above the ends T(0) = 11 and T(1) = 9.
-    from beltcalc.dutycycle import Drive, Segment, cycle_duty
+    from beltcalc.dutycycle import AxisDrive, Segment, cycle_duty
     from beltcalc.drive import BeltAxis
     from beltcalc.profiles import Phase, Trapezoid
 
@@ -249,7 +249,7 @@ def test_a_phase_peak_inside_the_phase():
                     gear_ratio=1.0)
     phase = Phase("accel_out", 1.0, 10.0, 10.0, -20.0)
     move = Segment("move", "move", profile=Trapezoid(20.0, 10.0, phase.angle, 0.0, (phase,), False))
-    row, = cycle_duty(Drive(axis), [move], motor_inertia=0.05, motor_damping=1.0).phases
+    row, = cycle_duty(AxisDrive(axis), [move], motor_inertia=0.05, motor_damping=1.0).phases
     assert (row.torque0, row.torque1) == (pytest.approx(11.0, rel=1e-12), pytest.approx(9.0, rel=1e-12))
     assert row.extreme == pytest.approx(12.6, rel=1e-12)
     assert row.peak == pytest.approx(12.6, rel=1e-12)

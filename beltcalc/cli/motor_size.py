@@ -227,7 +227,7 @@ def _no_scene(given, replaced):
     """``--scene none``: a scene without values; every value the run uses must be an option,
     all the missing ones named in one message (those a cycle, a move time or a catalog
     gearbox replaces stand in as unused)."""
-    from beltcalc.catalogs import Scene, Source
+    from beltcalc.catalogs import SceneFile, Source
     from beltcalc.cli.main import option_name
 
     missing = [option_name(p.name) for p in PARAMS
@@ -237,7 +237,7 @@ def _no_scene(given, replaced):
                                  f"({len(missing)} missing), or start from a scene file of your own "
                                  "(catalogs/scenes/wdu.toml is one)", param_hint="--scene")
     unused = {k: (_UNUSED[k], "not used: replaced by the cycle, the move time or the gearbox") for k in replaced}
-    return Scene(name="none", title="your axis (no scene)", command="motor-size",
+    return SceneFile(name="none", title="your axis (no scene)", command="motor-size",
                  source=Source("the command line"), values=unused)
 
 
@@ -580,7 +580,7 @@ def _json(s, rows, values, inputs, warnings, scene=None) -> str:
 def _profile_samples(s, per_phase: int = 21):
     """(t, omega, omegadot, torque, power) through the cycle, 21 points per phase, its
     ends as the right limit at the start and the left limit at the end (exact values)."""
-    from beltcalc.dutycycle import _pval
+    from beltcalc.dutycycle import poly_value
 
     d, out = s.shown.duty, []
     by_phase: dict[tuple[int, float], list] = {}
@@ -593,9 +593,9 @@ def _profile_samples(s, per_phase: int = 21):
             piece = pieces[-1] if j == per_phase - 1 else next(
                 (p for p in pieces if p.start <= t < p.start + p.duration), pieces[-1])
             tau = min(max(t - piece.start, 0.0), piece.duration)
-            w = _pval(piece.w, tau)
+            w = poly_value(piece.w, tau)
             wd = piece.w[1] + 2 * piece.w[2] * tau
-            tq = _pval(piece.torque, tau)
+            tq = poly_value(piece.torque, tau)
             out.append((t, w, wd, tq, tq * w))
     return out
 

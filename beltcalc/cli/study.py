@@ -59,9 +59,9 @@ def dask_note(n_runs: int, workers, scheduler) -> None:
 
 
 def _key(name: str, unit: str) -> str:
-    from beltcalc.sim.result import _unit_tag
+    from beltcalc.sim.result import unit_tag
 
-    return name if unit in ("1", "") else f"{name}_{_unit_tag(unit)}"
+    return name if unit in ("1", "") else f"{name}_{unit_tag(unit)}"
 
 
 def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts, cfg, options, as_json, csv_path,

@@ -133,13 +133,13 @@ class SimResult:
     def csv_text(self, names: list[str] | None = None) -> str:
         """CSV with the units in the header (``t_s``, ``omega_3_rad_per_s``, ...)."""
         names = names or list(self.signals)
-        header = ["t_s"] + [f"{n}_{_unit_tag(self.units[n])}" for n in names]
+        header = ["t_s"] + [f"{n}_{unit_tag(self.units[n])}" for n in names]
         data = np.column_stack([self.t] + [self.signals[n] for n in names])
         lines = [",".join(header)]
         lines += [",".join(f"{v:.10g}" for v in row) for row in data]
         return "\n".join(lines) + "\n"
 
 
-def _unit_tag(unit: str) -> str:
+def unit_tag(unit: str) -> str:
     """'rad/s' -> 'rad_per_s', 'N m' -> 'N_m', 'rad/s^2' -> 'rad_per_s2'."""
     return unit.replace("/", "_per_").replace(" ", "_").replace("*", "_").replace("^", "")

@@ -34,7 +34,7 @@ from typing import Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from beltcalc.errors import UsageError
-from beltcalc.params import Param, _bare_number
+from beltcalc.params import Param, bare_number
 
 CHUNK = 250              # runs per task
 RESERVOIR = 10_000       # rows kept for percentiles and rank correlations
@@ -149,8 +149,8 @@ def parse_vary(params: Sequence[Param], text: str) -> tuple[str, Distribution]:
             except ValueError:
                 raise UsageError(f"{quote(text)}: {quote(a)} is not a percentage", param="vary") from None
             continue
-        if param.unit not in ("", "1") and _bare_number(a):
-            example = ",".join(f"{x} {param.unit}" if _bare_number(x) and not (percent and j == 1) else x
+        if param.unit not in ("", "1") and bare_number(a):
+            example = ",".join(f"{x} {param.unit}" if bare_number(x) and not (percent and j == 1) else x
                                for j, x in enumerate(args))
             raise UsageError(f"{quote(text)}: {name} needs units, e.g. '{name}={kind}({example})'", param="vary")
         try:
@@ -216,7 +216,7 @@ def parse_limit(text: str, columns: Mapping[str, object]) -> Limit:
         except ValueError:
             raise UsageError(f"{quote(text)}: {key} is a plain number; give one", param="limit") from None
     else:
-        if _bare_number(value):
+        if bare_number(value):
             raise UsageError(f"{quote(text)}: {key} needs a unit, e.g. '{key}{op}{value} {unit}'", param="limit")
         try:
             bound = parse_quantity(value, unit.replace(" ", "*"))

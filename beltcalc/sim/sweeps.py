@@ -42,11 +42,11 @@ class Sweep:
         return self.units[0] if len(self.units) == 1 else ""
 
     def _keys(self) -> list[Column]:
-        from beltcalc.sim.result import _unit_tag
+        from beltcalc.sim.result import unit_tag
 
         out = []
         for name, unit in zip(self.names, self.units):
-            key = name if unit == "1" else f"{name}_{_unit_tag(unit)}"
+            key = name if unit == "1" else f"{name}_{unit_tag(unit)}"
             out.append(Column(key, name, unit, unit))
         return out
 

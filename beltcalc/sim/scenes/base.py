@@ -116,7 +116,7 @@ class Outcome:
         ``steady_`` and their labels say ``steady`` (``steady_main_speed_mean_rad_per_s``,
         "main shaft (3) steady: speed, mean"), the window's say neither: a key and its label
         name the same quantity."""
-        from beltcalc.sim.result import _unit_tag
+        from beltcalc.sim.result import unit_tag
 
         cols = []
         for sec in self.sections:
@@ -124,7 +124,7 @@ class Outcome:
             where = sec.title.split(",")[0] + (" steady" if steady else "")
             name = ("steady_" if steady else "") + (sec.key or sec.path[-1])
             for row in sec.rows:
-                unit = "" if row.unit in ("", "1") else "_" + _unit_tag(row.unit)
+                unit = "" if row.unit in ("", "1") else "_" + unit_tag(row.unit)
                 cols.append(Column(f"{name}_{row.key}{unit}", f"{where}: {row.label}", row.unit,
                                    row.display or row.unit, row.value))
         return cols

@@ -131,7 +131,7 @@ def reference_tables(model: AxisModel) -> tuple[tuple, tuple, tuple]:
     jerk phase, from its right limit at the start to its left limit at the end) and the
     rigid duty's torque piece by piece (linear on each piece of a trapezoid; the speed and
     torque tables are exact for trapezoids only, which is all the speed loop takes)."""
-    from beltcalc.dutycycle import _pval
+    from beltcalc.dutycycle import poly_value
 
     accel, speed = [], []
     t = 0.0
@@ -142,7 +142,7 @@ def reference_tables(model: AxisModel) -> tuple[tuple, tuple, tuple]:
     accel.append((t, 0.0))
     torque = []
     for p in model.duty.pieces:
-        torque += [(p.start, _pval(p.torque, 0.0)), (p.start + p.duration, _pval(p.torque, p.duration))]
+        torque += [(p.start, poly_value(p.torque, 0.0)), (p.start + p.duration, poly_value(p.torque, p.duration))]
     torque.append((t, 0.0))
     return tuple(accel), tuple(speed), tuple(torque)
 

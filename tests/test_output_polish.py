@@ -76,10 +76,12 @@ PLOTS = [
     (("simulate", "linear-axis"), "axis.pdf"),
     (("simulate", "sewing", "--steady-state-only", "--sweep", "C4=100N*m/rad:300N*m/rad:2"), "sweep.svg"),
     (("simulate", "sewing", *VARY, "--runs", "20", "--workers", "1"), "study.pdf"),
+    (("motor-size",), "profile.pdf"),
+    (("motor-size", "--sweep", "accel=100rad/s^2:1000rad/s^2:3"), "sweep.svg"),
 ]
 
 
-@pytest.mark.parametrize("args, name", PLOTS, ids=[f"{a[0]}-{a[1]}-{n}" for a, n in PLOTS])
+@pytest.mark.parametrize("args, name", PLOTS, ids=[f"{'-'.join(a[:2])}-{n}" for a, n in PLOTS])
 def test_plot_writes_the_format_its_suffix_names(args, name, tmp_path):
     path = tmp_path / name
     result = ok(run(*args, "--plot", str(path)))
@@ -249,7 +251,7 @@ def test_campbell_labels_are_rounded_and_do_not_overlap(figures, tmp_path):
 # --- study keys and labels -----------------------------------------------------------------------------
 
 def test_a_study_key_and_its_label_name_the_same_quantity():
-    from beltcalc.sim.result import _unit_tag
+    from beltcalc.sim.result import unit_tag
 
     study = json.loads(ok(run("simulate", "sewing", *VARY, "--runs", "20", "--workers", "1", "--json")).stdout)
     single = json.loads(ok(run("simulate", "sewing", "--json")).stdout)
@@ -267,7 +269,7 @@ def test_a_study_key_and_its_label_name_the_same_quantity():
         for part in path:
             section = section[part]
         for row, q in section.items():
-            key = f"{prefix}_{row}_{_unit_tag(q['unit'].replace('*', ' '))}"
+            key = f"{prefix}_{row}_{unit_tag(q['unit'].replace('*', ' '))}"
             assert outputs[key]["nominal"]["value"] == pytest.approx(q["value"], rel=1e-12), key
             compared += 1
     assert compared == len(outputs) == 26

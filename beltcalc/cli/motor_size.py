@@ -9,7 +9,7 @@ import click
 from beltcalc.cli.options import OutputPath, catalog_option, output_options, quantity_option, scene_options
 from beltcalc.cli.contract import checks_json, echo_inputs, entry, fmt, options_text, out_of_range, quantity, shown
 from beltcalc.cli.output import (Row, console, dumps, emit_warnings, print_table, progress,
-                                 require_matplotlib, strict_option, table_csv, write_atomic, wrote)
+                                 require_matplotlib, save_figure, strict_option, table_csv, write_atomic, wrote)
 from beltcalc.checks import percent
 from beltcalc.errors import InputError, UnknownNameError, did_you_mean
 from beltcalc.sizing import PARAMS
@@ -93,7 +93,7 @@ def _sweep_spec(text: str | None):
 @click.option("--sweep", "sweep_text", default=None, metavar="NAME=START:STOP:N",
               help="Sweep accel or speed, e.g. accel=100rad/s^2:1000rad/s^2:10 (the paper's Fig. 13-15).")
 @click.option("--plot", "plot_path", type=OutputPath(), default=None,
-              help="Write a PNG: torque and speed over the cycle and the cycle's points over the motor's "
+              help="Write a plot (PNG, PDF or SVG, as the suffix names): torque and speed over the cycle and the cycle's points over the motor's "
                    "torque-speed zones, or the sweep's curves (needs matplotlib).")
 @catalog_option
 @output_options
@@ -675,8 +675,7 @@ def _plot_profile(s, path) -> None:
     a3.set_title(f"{m.name}: torque-speed zones", fontsize=10)
     fig.suptitle(f"motor-size: {m.name}, RMS {s.shown.duty.rms_torque:.3g} N m")
     fig.tight_layout()
-    write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 _SWEEP_DISPLAY = {"rad/s^2": "rad/s^2", "m/s^2": "m/s^2", "rad/s": "rpm", "m/s": "m/s"}
@@ -762,5 +761,4 @@ def _plot_sweep(name, unit, table, motor, path) -> None:
     a2.set_xlabel(f"{name} [{unit}]")
     a2.legend(fontsize=8)
     fig.tight_layout()
-    write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)

@@ -385,7 +385,7 @@ def test_simulate_modes_json_is_every_pole():
     (["campbell", "--speed-max", "50Hz"], 2, ["--speed-max", "is a frequency"]),
     (["campbell", "--speed-max", "-5rad/s"], 1, ["--speed-max", "must be > 0"]),
     (["campbell", "--speed-min", "500rad/s", "--speed-max", "100rad/s"], 1, ["--speed-min", "below --speed-max"]),
-    (["campbell", "--reference", "9"], 2, ["--reference", "'9' is not a node of this drive; nodes: 1, 2, 3, 4, 5"]),
+    (["campbell", "--reference", "9"], 2, ["--reference", "'9' is not a node of this drive; did you mean 5, 4, 3? (one of 1, 2, 3, 4, 5)"]),
     (["campbell", "friswell_geared"], 2, ["no induction motor", "give --speed-max"]),
     (["campbell", "linear_axis", "--reference", "carriage", "--speed-max", "1rad/s"], 2,
      ["--reference", "'carriage' translates"]),

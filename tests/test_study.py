@@ -84,7 +84,7 @@ def test_limits_name_a_column_and_need_its_unit():
     assert lim.bound == pytest.approx(2000 * 2 * math.pi / 60) and lim.op == ">="
     assert list(lim.fails(np.array([200.0, 210.0, 220.0]))) == [True, False, False]
     for text, fragment in (("steady_main_speed_mean_rad_per_s>=200", "needs a unit"),
-                           ("steady_main_speed_mean>=200rad/s", "closest: steady_main_speed_mean_rad_per_s"),
+                           ("steady_main_speed_mean>=200rad/s", "did you mean steady_main_speed_mean_rad_per_s,"),
                            ("steady_main_speed_mean_rad_per_s=200rad/s", "KEY>=VALUE"),
                            ("steady_main_speed_mean_rad_per_s>=2N", "")):
         with pytest.raises(UsageError) as info:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from beltcalc.errors import InputError, UnknownNameError, UsageError, require_positive
+from beltcalc.errors import InputError, UnknownNameError, UsageError, did_you_mean, require_positive
 from beltcalc.sim import frequency as fr
 
 RUN_UP_MARGIN = 1.2          # default Campbell speed range: this times the motor's synchronous speed
@@ -346,8 +346,8 @@ def campbell(drive, orders=None, speed_max: float | None = None, speed_min: floa
     if reference is None:
         reference = drive.motors[0][1] if drive.motors else net.nodes[0].name
     if reference not in net._node:
-        raise UnknownNameError(f"{reference!r} is not a node of this drive; nodes: "
-                               + ", ".join(nd.name for nd in net.nodes), param="reference")
+        raise UnknownNameError(f"{reference!r} is not a node of this drive; "
+                               + did_you_mean(reference, (nd.name for nd in net.nodes)), param="reference")
     if net.node(reference).translation:
         raise UsageError(f"node {reference!r} translates; the reference of a Campbell diagram turns", param="reference")
     motor = next((m for m in net.motors if isinstance(m, InductionMotor)), None)

@@ -33,7 +33,7 @@ from typing import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from beltcalc.errors import UsageError
+from beltcalc.errors import UsageError, did_you_mean
 from beltcalc.params import Param, bare_number
 
 CHUNK = 250              # runs per task
@@ -200,15 +200,13 @@ def split_limit(text: str) -> tuple[str, str, str]:
 def parse_limit(text: str, columns: Mapping[str, object]) -> Limit:
     """The limit ``text`` on one of ``columns`` (key -> :class:`~beltcalc.report.Column`), its
     value in the column's SI unit (units needed where the column has one)."""
-    import difflib
-
     from beltcalc.units import QuantityError, parse_quantity, quote
 
     key, op, value = split_limit(text)
     if key not in columns:
-        close = difflib.get_close_matches(key, list(columns), n=4, cutoff=0.4)
-        raise UsageError(f"{quote(text)}: {quote(key)} is not a column of this study"
-                         + (f"; closest: {', '.join(close)}" if close else ""), param="limit")
+        hint = did_you_mean(key, columns)
+        raise UsageError(f"{quote(text)}: {quote(key)} is not a column of this study" + (f"; {hint}" if hint else ""),
+                         param="limit")
     unit = columns[key].unit or "1"
     if unit in ("1", ""):
         try:

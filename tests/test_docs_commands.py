@@ -105,11 +105,13 @@ NOT_RUN: dict[str, str] = {
     "simulate sewing --set roller_eccentricity=2mm":
         "a run of 30-55 s that tests/test_hard_cases_cli.py runs as written (with --json and --csv) against "
         "an independent Radau reference",
+    "simulate roller-table --method radau --rtol 1e-9":
+        "a Radau run of about a minute over the default 7 s (its solver is scipy's; the exact run is compared with "
+        "a Radau reference at rtol 1e-11 in tests/test_hard_cases_cli.py, and Radau is timed in docs/performance.md)",
 }
 # commands over 10 s (on the 2-core machine, beside other work): run, marked slow
 SLOW: set[str] = {
     "simulate sewing --angle-loads",                                    # 24 s: Radau, nonlinear
-    "simulate roller-table --method radau --rtol 1e-9",                 # 23 s
     "simulate roller-table --set rollers=20 --set roller_load=6N*m",    # 14 s (slow in the figure test too)
     "simulate roller-table --sweep pretension=0N:600N:7 --csv sweep.csv",   # 12 s
     "simulate linear-axis --belt-model chain",                          # 12 s: 124 units

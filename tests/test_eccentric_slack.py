@@ -196,10 +196,10 @@ def run_cli(tmp_path, *settings: str, t_end: str, window: str, samples: int):
 
 def check_speeds(out, cols, Y):
     """Every shaft's speed against the reference, to 10 times the run's error estimate (its
-    worst speed's; DESIGN.md 3.0: it never understates the true error by more than 10x) plus the
-    reference's own error and the CSV's rounding; returns the largest difference."""
-    assert out["error_estimate"]["unit"] == "rad/s"
-    estimate = out["error_estimate"]["value"]
+    worst figure's relative error times the speeds' scale; DESIGN.md 3.0: it never understates
+    the true error by more than 10x) plus the reference's own error and the CSV's rounding;
+    returns the largest difference."""
+    estimate = speed_estimate(out, Y)
     assert 0 < out["error_relative"]["value"] <= 1e-6          # the run met its tolerance
     worst = 0.0
     for k in range(1, 6):
@@ -210,10 +210,16 @@ def check_speeds(out, cols, Y):
     return worst
 
 
-def force_tolerance(out, m, t_end: float) -> float:
+def speed_estimate(out, Y) -> float:
+    """The run's claimed error of a speed [rad/s]: its worst figure's relative error (a speed's or
+    a torque's, each on its unit's scale) times the speeds' scale."""
+    return out["error_relative"]["value"] * max(np.abs(Y[4 + k]).max() for k in range(1, 6))
+
+
+def force_tolerance(out, m, t_end: float, Y) -> float:
     """A span force's error bound from the speeds' [N]: the damper's b r |d omega| plus the
     spring's k r |d phi|, |d phi| <= |d omega| t_end (r: the larger pulley radius)."""
-    bound = 10 * out["error_estimate"]["value"] + REF_ERROR
+    bound = 10 * speed_estimate(out, Y) + REF_ERROR
     return 2 * m["g"]["r2"] * bound * (m["b"] + m["k"] * t_end)
 
 
@@ -232,15 +238,17 @@ def test_a_taut_run_agrees_with_the_independent_radau_reference(tmp_path):
     assert not [w for w in warned if w.startswith("belt 12")]
     assert out["method"] == "radau"
     worst = check_speeds(out, cols, Y)
-    tol = force_tolerance(out, m, 0.1)
+    tol = force_tolerance(out, m, 0.1, Y)
     for k, side in enumerate(("tight", "slack")):
         assert_allclose(cols[f"F_12_{side}_N"], ref_forces[k], rtol=CSV_DIGITS, atol=tol)
         assert out["roller"][f"{side}_force_min_run"]["value"] == pytest.approx(ref_forces[k].min(), abs=tol)
     assert out["roller"]["pretension"]["value"] == 600.0
     check, = (c for c in out["checks"] if c["key"] == "belt_spans_taut")
     assert check["verdict"] == "pass"
-    # the estimate is of the true error's size, not a loose bound (measured: 1.03e-6 against 1.03e-6)
-    assert worst == pytest.approx(out["error_estimate"]["value"], rel=0.5)
+    # the estimate covers the speeds' true error (it is the shaft torque T_23's, a stiffness times
+    # a difference of angles, relatively 7x larger: tests/test_hard_cases_cli.py holds that one
+    # against Radau; measured here 1.02e-6 against 7.6e-6 rad/s)
+    assert worst <= speed_estimate(out, Y)
 
 
 # --- (b) a run whose spans go slack ---------------------------------------------------------------
@@ -273,11 +281,11 @@ def test_a_slackening_span_warns_and_is_tension_only(tmp_path):
     worst = check_speeds(out, cols, Y)
     # forces: 0 where the reference's span is slack, the reference's force elsewhere (a sample
     # near a switch may fall either side within the run's error: a force of at most the bound)
-    tol = force_tolerance(out, m, 0.05)
+    tol = force_tolerance(out, m, 0.05, Y)
     for k, side in enumerate(("tight", "slack")):
         assert_allclose(cols[f"F_12_{side}_N"], ref_forces[k], rtol=CSV_DIGITS, atol=tol)
     assert np.all(cols["F_12_slack_N"][ref_forces[1] == 0] == 0.0)
-    assert worst == pytest.approx(out["error_estimate"]["value"], rel=0.5)     # measured 4.25e-6 vs 4.24e-6
+    assert worst <= speed_estimate(out, Y)     # measured 4.3e-6 against 3.8e-4 rad/s (T_23's estimate)
 
 
 @pytest.mark.slow

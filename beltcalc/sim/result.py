@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+EPS = float(np.finfo(float).eps)
+
 
 @dataclass(frozen=True)
 class Summary:
@@ -89,7 +91,12 @@ class SimResult:
             total = float(row @ (self.integrals[:, b] - self.integrals[:, a]))
             if self.rigid_integrals is not None:        # the rotations the run took out of the angles
                 R, theta = self.rigid_integrals
-                total += float((R @ row) @ (theta[:, b] - theta[:, a]))
+                turn = R @ row
+                # a torque or a force does not change under a rigid rotation: its row's product
+                # with R is zero, and rounding of R (geared rotations) must not make it one of
+                # eps x 1e6 N m/rad x 1e3 rad s (3e-8 N m on the roller table's shaft torques)
+                turn[np.abs(turn) <= 64 * EPS * (np.abs(R) @ np.abs(row))] = 0.0
+                total += float(turn @ (theta[:, b] - theta[:, a]))
             mean = total / (self.t[b] - self.t[a])
         elif name in self.signal_integrals and b > a:
             cum = self.signal_integrals[name]

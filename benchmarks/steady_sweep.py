@@ -35,7 +35,7 @@ KEYS = ("speed_amplitude", "accel_amplitude", "torque_amplitude")
 def sweep(points: int, steady_state_only: bool):
     from beltcalc.sim.core import SolverConfig
     from beltcalc.sim.scenes import SCENES
-    from beltcalc.sim.sweeps import sweep_scene
+    from beltcalc.sim.study.sweeps import sweep_scene
 
     scene = SCENES["sewing"]
     values = scene.values()

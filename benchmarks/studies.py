@@ -6,7 +6,7 @@ Run: python benchmarks/studies.py [--quick]
 
 * **Per-run cost** (paired): chunks of the study ``simulate sewing --vary C4=normal(260 N*m/rad,
   5%) --vary M3_0=normal(0.1 N*m,10%) --vary J3=uniform(2.8e-4,3e-4 kg*m^2) --vary
-  U12=normal(1.375,2%)`` (:func:`beltcalc.sim.study.run_chunk`: every run's summary row, the
+  U12=normal(1.375,2%)`` (:func:`beltcalc.sim.study.runs.run_chunk`: every run's summary row, the
   exact method with its error estimate, 10,001 samples over 1 s), on the batched path
   (:mod:`beltcalc.sim.batch`) and one by one (``Plan.batch`` False), each round followed by 15
   solver-only runs of the nominal drive (``SimResult.wall_time`` of ``simulate(net, 1.0, 10001,
@@ -18,7 +18,7 @@ Run: python benchmarks/studies.py [--quick]
   at 10^3 and 10^4, the exact steady state (``--steady-state-only``, a cheaper run with the
   same streaming) at all three. Growth against 10^3.
 * **Workers**: the same study of ``--runs`` runs on a local Dask cluster of 1 and of 2 worker
-  processes, each the best of two runs taken in turn (:func:`beltcalc.sim.study.execute`; start-up of the cluster included, and
+  processes, each the best of two runs taken in turn (:func:`beltcalc.sim.study.execution.execute`; start-up of the cluster included, and
   without it: the time from the first chunk's arrival), and in this process.
 * **10^6 runs**: the per-run wall time of the batched path in one process, and of 2 workers,
   times 10^6.
@@ -50,7 +50,7 @@ VARY = ["C4=normal(260N*m/rad,5%)", "M3_0=normal(0.1N*m,10%)", "J3=uniform(2.8e-
 def plan(runs: int, batch: bool = True, chunk: int = 250, seed: int = 1):
     from beltcalc.sim.core import SolverConfig
     from beltcalc.sim.scenes import SCENES
-    from beltcalc.sim.study import Plan, parse_vary
+    from beltcalc.sim.study.plan import Plan, parse_vary
 
     scene = SCENES["sewing"]
     dists = [parse_vary(scene.params, v) for v in VARY]
@@ -77,7 +77,7 @@ def solver_only(count: int = 15) -> tuple[float, float]:
 
 def chunk_cost(p, c: int) -> tuple[float, float, int]:
     """(wall, CPU) seconds per run of chunk ``c``, and how many rows came from the batch."""
-    from beltcalc.sim.study import run_chunk
+    from beltcalc.sim.study.runs import run_chunk
 
     w0, c0 = time.perf_counter(), time.process_time()
     chunk = run_chunk(p, c)
@@ -125,7 +125,7 @@ def max_rss(runs: int, steady: bool) -> tuple[int, float]:
 def workers(runs: int, repeats: int = 2) -> dict:
     """Wall times of the study on 1 and 2 local Dask workers and in this process, each the best
     of ``repeats`` runs taken in turn (the load of the shared machine moves between them)."""
-    from beltcalc.sim.study import _on_dask, execute
+    from beltcalc.sim.study.execution import execute, on_dask
 
     out = {}
     for _ in range(repeats):
@@ -137,7 +137,7 @@ def workers(runs: int, repeats: int = 2) -> dict:
                 arrivals.append(time.perf_counter())
 
             t0 = time.perf_counter()
-            how = execute(p, take, workers=1) if label == "in this process" else _on_dask(p, take, n, None)
+            how = execute(p, take, workers=1) if label == "in this process" else on_dask(p, take, n, None)
             wall = time.perf_counter() - t0
             # throughput once running: the chunks after the first, over the time from its arrival to the last's
             steady = (arrivals[-1] - arrivals[0]) / (p.n_runs - p.chunk) if len(arrivals) > 1 else wall / p.n_runs

@@ -28,11 +28,10 @@ import platform  # noqa: E402
 import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from beltcalc.sim import workprecision  # noqa: E402
 from beltcalc.sim.core import SolverConfig, simulate  # noqa: E402
 from beltcalc.sim.scenes import SCENES  # noqa: E402
-from beltcalc.sim.scenes.base import scene_work_precision  # noqa: E402
-from beltcalc.sim.workprecision import fastest_at  # noqa: E402
+from beltcalc.sim.study import workprecision  # noqa: E402
+from beltcalc.sim.study.workprecision import fastest_at, scene_work_precision  # noqa: E402
 
 END_TO_END: dict[tuple[str, float | None], float] = {}   # (method, rtol) -> best whole simulate() call [s]
 

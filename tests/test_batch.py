@@ -1,6 +1,7 @@
-"""Batched exact propagation for studies (issue 17, item 3; beltcalc.sim.batch): the rows of a
-chunk computed as a stack equal the scene's single runs, and every run the batch cannot vouch
-for goes through the single run."""
+"""Batched exact propagation for studies (issue 17, item 3; beltcalc.sim.batch, and the batch
+row a scene declares, read by beltcalc.sim.study.runs): the rows of a chunk computed as a stack
+equal the scene's single runs, and every run the batch cannot vouch for goes through the single
+run."""
 
 from __future__ import annotations
 
@@ -12,9 +13,11 @@ from beltcalc.sim import batch
 from beltcalc.sim.core import SolverConfig, conditioning, simulate
 from beltcalc.sim.propagate import augmented_matrix, propagate
 from beltcalc.sim.scenes import SCENES
-from beltcalc.sim.scenes.base import run_scene
-from beltcalc.sim.scenes.sewing import build
-from beltcalc.sim.study import Plan, parse_vary, run_chunk, run_one
+from beltcalc.sim.scenes.base import BatchRow, run_scene
+from beltcalc.sim.scenes.sewing import batched_rows, build
+from beltcalc.sim.study import runs as study_runs
+from beltcalc.sim.study.plan import Plan, parse_vary
+from beltcalc.sim.study.runs import run_chunk, run_one
 
 SEWING = SCENES["sewing"]
 CFG = SolverConfig()
@@ -39,7 +42,7 @@ def single_rows(p, c=0):
 def test_the_batch_gives_the_single_runs_rows(options):
     p = plan(**options)
     X = p.inputs(0)
-    got = batch.batch_rows(p, X)
+    got = study_runs.batch_rows(p, X)
     ref = single_rows(p)
     assert all(g is not None for g in got)
     assert len({round(x[3], 12) for x in X}) == len(X)          # U12 differs run by run: so do the windows
@@ -97,7 +100,7 @@ def test_runs_the_batch_cannot_vouch_for_go_one_by_one():
     # single run's row, with its failing checks or its error
     p = plan(["rated_torque=uniform(0.01N*m,0.2N*m)", "J1=normal(1.1e-5kg*m^2,150%)"], runs=40, chunk=40, seed=4)
     X = p.inputs(0)
-    got = batch.batch_rows(p, X)
+    got = study_runs.batch_rows(p, X)
     ref = single_rows(p)
     vouched = [g is not None for g in got]
     assert any(vouched) and not all(vouched)
@@ -116,13 +119,13 @@ def test_runs_the_batch_cannot_vouch_for_go_one_by_one():
 
 def test_an_eccentric_roller_is_nonlinear_and_not_batched():
     p = plan(["roller_eccentricity=uniform(0.1mm,0.6mm)", "C4=normal(260N*m/rad,5%)"], runs=4, chunk=4)
-    assert batch.batch_rows(p, p.inputs(0)) == [None] * 4
+    assert study_runs.batch_rows(p, p.inputs(0)) == [None] * 4
 
 
 def test_a_batch_that_disagrees_with_its_check_run_sends_the_chunk_one_by_one(monkeypatch):
     p = plan(runs=10, chunk=10)
-    real = batch.batch_rows
-    monkeypatch.setattr(batch, "batch_rows", lambda plan, X: [[v * (1 + 1e-6) for v in row] if row else row
+    real = study_runs.batch_rows
+    monkeypatch.setattr(study_runs, "batch_rows", lambda plan, X: [[v * (1 + 1e-6) for v in row] if row else row
                                                               for row in real(plan, X)])
     chunk = run_chunk(p, 0)
     assert chunk.batched == 0
@@ -135,12 +138,12 @@ def test_a_drive_file_and_other_solvers_go_one_by_one():
     scene = drive_scene("friswell_5_disks")       # a drive file: its rows take extremes off the exact solution
     name, dist = parse_vary(scene.params, "disk2.inertia=uniform(0.003kg*m^2,0.004kg*m^2)")
     p = Plan(scene, scene.values(samples=201.0), CFG, (name,), dists=(dist,), runs=3, chunk=3)
-    assert batch.batch_rows(p, p.inputs(0)) == [None] * 3
+    assert study_runs.batch_rows(p, p.inputs(0)) == [None] * 3
     chunk = run_chunk(p, 0)
     assert chunk.batched == 0 and all(r.error is None for r in chunk.rows)
     radau = plan(runs=3, chunk=3)
     radau = Plan(**{**radau.__dict__, "cfg": SolverConfig("radau")})
-    assert batch.batch_rows(radau, radau.inputs(0)) == [None] * 3
+    assert study_runs.batch_rows(radau, radau.inputs(0)) == [None] * 3
 
 
 def test_a_replaced_scene_run_is_never_batched():
@@ -149,7 +152,32 @@ def test_a_replaced_scene_run_is_never_batched():
     p = plan(runs=3, chunk=3)
     other = Plan(**{**p.__dict__, "scene": replace(SEWING, run=lambda values, cfg, **kw: run_scene(
         SEWING, values, cfg, **kw))})
-    assert batch.batch_rows(other, other.inputs(0)) == [None] * 3
+    assert study_runs.batch_rows(other, other.inputs(0)) == [None] * 3
+
+
+def test_the_study_reads_the_batch_row_the_scene_declares():
+    # batch.py knows no scene: a chunk's rows come from the scene's own BatchRow, which gets
+    # each run's SI values (the scene's, the varied inputs set), the solver config, the options
+    from dataclasses import replace
+
+    seen = []
+
+    def rows(chunk, cfg, **options):
+        seen.append((list(chunk), cfg, options))
+        return batched_rows(chunk, cfg, **options)
+
+    p = plan(runs=6, chunk=6, steady_state_only=True)
+    mine = Plan(**{**p.__dict__, "scene": replace(SEWING, batch=BatchRow(SEWING.run, rows))})
+    chunk = run_chunk(mine, 0)
+    assert chunk.batched == 5 and len(seen) == 1
+    runs, cfg, options = seen[0]
+    assert (cfg, options) == (CFG, {"steady_state_only": True})
+    assert [[v[n] for n in p.names] for v in runs] == p.inputs(0).tolist()
+    assert all({k: v[k] for k in p.values if k not in p.names} == {k: p.values[k] for k in p.values
+                                                                  if k not in p.names} for v in runs)
+    assert [r.values for r in chunk.rows] == [r.values for r in run_chunk(p, 0).rows]
+    none = Plan(**{**p.__dict__, "scene": replace(SEWING, batch=None)})
+    assert run_chunk(none, 0).batched == 0
 
 
 def test_window_statistics_are_the_results_summary():

@@ -4,7 +4,7 @@ user meets it: ``--plot`` writes the format its suffix names (beltcalc/cli/outpu
 differ by style and carry a label; Campbell labels do not overlap (cli/frequency.py); a study's
 key and its label name the same quantity (sim/scenes/base.py ``column_rows``); ``modes`` names
 every element that holds over 10 % of a mode's strain energy; Dask's own log lines stay off
-stderr, and a script without a main guard runs a study on a local cluster (sim/cluster.py)."""
+stderr, and a script without a main guard runs a study on a local cluster (sim/study/cluster.py)."""
 
 from __future__ import annotations
 
@@ -310,8 +310,8 @@ def test_modes_names_both_belt_spans_of_the_conveyors_second_mode():
 SCRIPT = """\
 from beltcalc.sim.core import SolverConfig
 from beltcalc.sim.scenes import SCENES
-from beltcalc.sim.study import DASK_MIN_RUNS
-from beltcalc.sim.sweeps import grid_scene
+from beltcalc.sim.study.execution import DASK_MIN_RUNS
+from beltcalc.sim.study.sweeps import grid_scene
 
 spec = SCENES["sewing"]
 _, resolved = spec.resolve("sewing", {})
@@ -338,7 +338,7 @@ def test_a_script_without_a_main_guard_runs_a_study_on_a_local_cluster(tmp_path)
 def test_a_guarded_script_and_the_top_level_of_an_unguarded_one_are_told_apart(tmp_path):
     body = textwrap.dedent("""\
         import json
-        from beltcalc.sim.cluster import unguarded_script
+        from beltcalc.sim.study.cluster import unguarded_script
 
         def where():
             return unguarded_script()
@@ -352,7 +352,7 @@ def test_a_guarded_script_and_the_top_level_of_an_unguarded_one_are_told_apart(t
     res = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
     assert json.loads(res.stdout) == [True, False]
-    res = subprocess.run([sys.executable, "-c", "from beltcalc.sim.cluster import unguarded_script as u; print(u())"],
+    res = subprocess.run([sys.executable, "-c", "from beltcalc.sim.study.cluster import unguarded_script as u; print(u())"],
                          capture_output=True, text=True, timeout=60)
     assert res.stdout.strip() == "False"                 # no script file: nothing is run again
 

@@ -1243,7 +1243,7 @@ WORK_PRECISION_ROWS = [("sewing", "sewing", "exact", None), ("sewing", "sewing",
 @pytest.mark.parametrize("scene_name, file, method, rtol", WORK_PRECISION_ROWS)
 def test_stored_work_precision_rows_come_out_of_the_code(scene_name, file, method, rtol):
     """Steps, right-hand-side calls and error of cheap rows of the stored tables, re-run as
-    :func:`beltcalc.sim.workprecision.work_precision` runs them."""
+    :func:`beltcalc.sim.study.workprecision.work_precision` runs them."""
     from beltcalc.sim.core import SolverConfig, simulate
     from beltcalc.sim.scenes import SCENES
 

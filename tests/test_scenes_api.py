@@ -24,8 +24,9 @@ from beltcalc.report import Row, Section
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.network import Coupling, Inertia, Load, Network, Prescribed
 from beltcalc.sim.scenes import SCENES
-from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, run_scene, scene_work_precision
-from beltcalc.sim.sweeps import sweep_scene
+from beltcalc.sim.scenes.base import TIMING, Outcome, Scene, check_timing, run_scene
+from beltcalc.sim.study.sweeps import sweep_scene
+from beltcalc.sim.study.workprecision import scene_work_precision
 
 CFG = SolverConfig()       # auto, as the CLI runs it
 REL = 1e-8

@@ -125,7 +125,7 @@ def test_rk45_budget_is_a_clear_failure():
 
 
 def test_work_precision_rows_and_errors():
-    from beltcalc.sim.workprecision import count_runs, fastest_at, work_precision
+    from beltcalc.sim.study.workprecision import count_runs, fastest_at, work_precision
 
     net = two_mass(C=100.0, d=0.05, loads=[Load("2", 0.1, 0.05, 20.0)])
     rows = work_precision(net, 0.5, 501, "omega_2", tolerances=(1e-4, 1e-9), explicit_tolerances=(1e-6,),
@@ -140,7 +140,7 @@ def test_work_precision_rows_and_errors():
 
 
 def test_work_precision_reports_a_budget_stop():
-    from beltcalc.sim.workprecision import work_precision
+    from beltcalc.sim.study.workprecision import work_precision
 
     rows = work_precision(sewing_like(), 0.2, 201, "omega_3", tolerances=(1e-4,), explicit_tolerances=(1e-3,),
                           repeats=1, max_rhs_calls=3000)

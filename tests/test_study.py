@@ -12,9 +12,11 @@ from beltcalc.errors import UsageError
 from beltcalc.sim.core import SolverConfig
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes.base import run_scene
-from beltcalc.sim.sweeps import grid_scene
-from beltcalc.sim.study import (Accumulator, Distribution, Plan, RunRow, execute, parse_limit, parse_vary,
-                                run_chunk, tolerance_study, wilson)
+from beltcalc.sim.study.execution import execute
+from beltcalc.sim.study.plan import Distribution, Plan, parse_vary
+from beltcalc.sim.study.runs import RunRow, run_chunk
+from beltcalc.sim.study.sweeps import grid_scene
+from beltcalc.sim.study.tolerance import Accumulator, parse_limit, tolerance_study, wilson
 
 SEWING = SCENES["sewing"]
 CFG = SolverConfig()
@@ -304,9 +306,9 @@ def test_a_local_dask_cluster_gives_the_rows_of_the_in_process_run():
 
 
 def test_without_dask_a_large_study_runs_in_process_with_a_note(monkeypatch):
-    import beltcalc.sim.study as study
+    import beltcalc.sim.study.execution as execution
 
-    monkeypatch.setattr(study, "dask_available", lambda: False)
+    monkeypatch.setattr(execution, "dask_available", lambda: False)
     p = plan(["C4=normal(260N*m/rad,5%)"], runs=201)
     notes = []
     assert execute(p, lambda chunk: None, workers=2, notes=notes) == "in-process"

@@ -202,9 +202,9 @@ def test_a_grid_point_that_fails_to_solve_is_a_row(monkeypatch):
 
 
 def test_without_dask_a_large_study_says_so(monkeypatch):
-    import beltcalc.sim.study as study
+    import beltcalc.sim.study.execution as execution
 
-    monkeypatch.setattr(study, "dask_available", lambda: False)
+    monkeypatch.setattr(execution, "dask_available", lambda: False)
     result = run(*SEWING, *VARY, "--runs", "201", "--workers", "2", "--json")
     assert result.exit_code == 0
     assert [line for line in result.stderr.splitlines() if line.startswith("note: ")] == [

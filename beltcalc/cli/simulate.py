@@ -43,7 +43,6 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
     from beltcalc.params import parse_assignments, sweep_points
     from beltcalc.sim.core import SolverConfig
     from beltcalc.sim.scenes.base import run_scene
-    from beltcalc.sim.sweeps import grid_scene
 
     if click.get_current_context().meta.get(LIST_PARAMS):
         _list_params(spec, scene, as_json)
@@ -89,6 +88,7 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
         from math import prod
 
         from beltcalc.cli.study import dask_note
+        from beltcalc.sim.study.sweeps import grid_scene
 
         total = prod(len(p) for _, p in grid)
         dask_note(total, workers, scheduler)
@@ -248,8 +248,7 @@ def _render_sweep(spec: Scene, sweep, title: str, as_json, csv_path, plot_path, 
 
 
 def _work_precision(spec: Scene, values: dict, options: dict, as_json: bool, csv_path) -> None:
-    from beltcalc.sim.scenes.base import scene_work_precision
-    from beltcalc.sim.workprecision import count_runs
+    from beltcalc.sim.study.workprecision import count_runs, scene_work_precision
 
     with progress(count_runs(), "work-precision", enabled=not as_json) as advance:
         wp = scene_work_precision(spec, values, advance, **options)

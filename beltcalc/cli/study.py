@@ -1,5 +1,5 @@
 """The tolerance studies of ``beltcalc simulate ... --vary``: read the study's options, run
-it (:mod:`beltcalc.sim.study`), stream its rows to ``--csv``/``--parquet`` and render its
+it (:mod:`beltcalc.sim.study.tolerance`), stream its rows to ``--csv``/``--parquet`` and render its
 summary as tables, ``--json`` or ``--plot``. Shared by every simulate command through
 :func:`beltcalc.cli.simulate.run_command`."""
 
@@ -20,7 +20,7 @@ def study_inputs(spec, grid, vary, runs, seed, limits, parquet_path) -> list:
                 raise UsageError(f"{option} goes with --vary (a tolerance study)", param="vary")
         if not grid:                    # a single run: the study module is not loaded (start-up)
             return []
-    from beltcalc.sim.study import MAX_GRID, parse_vary
+    from beltcalc.sim.study.plan import MAX_GRID, parse_vary
 
     names = [n for n, _ in grid]
     if len(set(names)) < len(names):
@@ -40,7 +40,7 @@ def study_inputs(spec, grid, vary, runs, seed, limits, parquet_path) -> list:
         except ImportError:
             raise OutputError("--parquet needs pyarrow: pip install 'beltcalc[data]'") from None
     for text in limits:
-        from beltcalc.sim.study import split_limit
+        from beltcalc.sim.study.tolerance import split_limit
 
         split_limit(text)                  # the form now; the key and unit after the nominal run
     return dists
@@ -50,7 +50,7 @@ def dask_note(n_runs: int, workers, scheduler) -> None:
     """Say on stderr that a study that would run on Dask runs in this process (dask missing)."""
     import os
 
-    from beltcalc.sim.study import DASK_MIN_RUNS, dask_available
+    from beltcalc.sim.study.execution import DASK_MIN_RUNS, dask_available
 
     if scheduler is None and (workers or os.cpu_count() or 1) > 1 and n_runs > DASK_MIN_RUNS \
             and not dask_available():
@@ -73,7 +73,9 @@ def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts,
     from beltcalc.cli.output import dumps, emit_warnings, progress, require_matplotlib, wrote, write_atomic
     from beltcalc.errors import render
     from beltcalc.sim.scenes.base import run_scene
-    from beltcalc.sim.study import Plan, parse_limit, row_cells, tolerance_study
+    from beltcalc.sim.study.plan import Plan
+    from beltcalc.sim.study.runs import row_cells
+    from beltcalc.sim.study.tolerance import parse_limit, tolerance_study
 
     if plot_path is not None:
         require_matplotlib()
@@ -220,7 +222,7 @@ def _q(value, unit):
 
 def _to_dict(title, spec, resolved, dists, input_keys, columns, nominal, summary, runs, seed, how, warnings) -> dict:
     """The study as one JSON-ready object (SI; values as ``{"value", "unit"}``)."""
-    from beltcalc.sim.study import PERCENTILES, RESERVOIR
+    from beltcalc.sim.study.tolerance import PERCENTILES, RESERVOIR
 
     outputs = {}
     for key, col in columns.items():
@@ -277,7 +279,7 @@ def _print(obj, summary, columns, dists) -> None:
 
     from beltcalc.cli.output import console, format_number
     from beltcalc.cli.output import unit_label
-    from beltcalc.sim.study import PERCENTILES
+    from beltcalc.sim.study.tolerance import PERCENTILES
 
     out = console(200)
     t = Table(title=f"tolerance study of {obj['scene']}: {summary.runs:,} runs, seed {obj['seed']} ({obj['execution']})",

@@ -24,16 +24,19 @@ few signals ``y_ri(t_k) = c_ri^T z_r(t_k)`` that are linear in ``z``: speeds, ac
 No time series is kept: a pass holds at most :data:`PASS_BYTES` of samples, so memory does not
 grow with the chunk or the number of runs.
 
-Which scenes: a registry (:func:`rows_registry`) names, per scene run function, the function that turns the batched
-summaries into the scene's row, in the order of its columns; today the sewing scene (its time
-run and ``steady_state_only``). Drive files run one by one: their rows take extremes and means off
-the exact solution between the samples (:mod:`beltcalc.sim.watch`), which the batch does not
-reproduce. Anything else, and every run the batch cannot vouch for (an
-impossible value, an eccentric roller or angle-locked loads: nonlinear; another structure than
-the chunk's; a check within :data:`MARGIN` of its limit or failing; an error estimate above
-half the tolerance), goes through the scene's own single run (:func:`beltcalc.sim.study.run_one`),
-and so does one run of every chunk, whose row the batch must reproduce to :data:`VERIFY_RTOL`
-or the whole chunk goes one by one.
+This module knows no scene. A scene that can be batched declares its batch row
+(:class:`beltcalc.sim.scenes.base.BatchRow`, its :attr:`~beltcalc.sim.scenes.base.Scene.batch`):
+the function that builds its runs' networks, asks these for the signals its row reports and
+turns them into the row, in the order of its columns; today the sewing scene (its time run and
+``steady_state_only``: :func:`beltcalc.sim.scenes.sewing.batched_rows`). Drive files run one by
+one: their rows take extremes and means off the exact solution between the samples
+(:mod:`beltcalc.sim.watch`), which the batch does not reproduce. Every run a batch row cannot
+vouch for (an impossible value, an eccentric roller or angle-locked loads: nonlinear; another
+structure than the chunk's; a check within :data:`MARGIN` of its limit or failing; an error
+estimate above half the tolerance) goes through the scene's own single run
+(:func:`beltcalc.sim.study.runs.run_one`), and so does one run of every chunk, whose row the
+batch must reproduce (:func:`beltcalc.sim.study.runs.agrees`) or the whole chunk goes one by
+one.
 
 References: Moler & Van Loan, "Nineteen dubious ways to compute the exponential of a matrix,
 twenty-five years later", SIAM Review 45 (2003) 3-49 (scaling and squaring; the augmented
@@ -44,7 +47,7 @@ Anal. Appl. 31 (2009) 970-989 (``expm``, :mod:`beltcalc.sim.linalg`).
 from __future__ import annotations
 
 import math
-from typing import Callable, Mapping, Sequence
+from typing import Sequence
 
 import numpy as np
 
@@ -53,7 +56,6 @@ from beltcalc.sim.propagate import augmented_matrix, balanced_step, block_length
 
 PASS_BYTES = 16 * 2 ** 20   # samples held by one pass of the batch (runs x samples x signals x 8 bytes)
 MARGIN = 1e-6               # a check whose utilisation is above 1 - MARGIN goes through the single run
-VERIFY_RTOL = 1e-9          # the chunk's check run: the batch's row against the single run's
 
 
 # --- the engine ----------------------------------------------------------------------------------
@@ -303,110 +305,6 @@ def _output_row(net, name: str, names: Sequence[str], eye: np.ndarray) -> tuple[
     raise KeyError(name)
 
 
-# --- the sewing scene ----------------------------------------------------------------------------
-
-def _sewing(plan, X: np.ndarray) -> list[list[float] | None]:
-    """The sewing scene's row (:func:`beltcalc.sim.scenes.sewing.run`: per shaft the window's
-    speed mean and amplitude, acceleration amplitude, torque mean and amplitude; the motor's
-    speed mean, torque mean and amplitude; the same in the exact periodic steady state) for
-    every run of the chunk the batch can vouch for; None for the others."""
-    from beltcalc.checks import RULES
-    from beltcalc.sim.scenes.base import check_timing, settling_check
-    from beltcalc.sim.scenes.sewing import SHAFTS, STEADY_SIGNALS, build, whole_period_window
-
-    opts = dict(plan.options)
-    steady_only = bool(opts.pop("steady_state_only", False))
-    if opts.pop("angle_loads", False) or opts:
-        return [None] * len(X)
-    cfg = plan.cfg
-    if not steady_only and (cfg.method not in ("auto", "exact")):
-        return [None] * len(X)
-    out: list = [None] * len(X)
-    nets, vals, keys = {}, {}, {}
-    for r, x in enumerate(X):
-        v = dict(plan.values)
-        v.update(zip(plan.names, (float(e) for e in x)))
-        try:
-            samples = check_timing(v)
-            if v.get("roller_eccentricity", 0.0) > 0:
-                continue                               # the eccentric roller: nonlinear
-            net = build(v)
-        except Exception:                              # the single run says why, as a row
-            continue
-        freqs = net.frequencies()
-        if not (net.linear and net.smooth) or len(freqs) != 1 or freqs[0] <= 0:
-            continue
-        nets[r], vals[r] = net, v
-        keys[r] = (net.size, tuple(net.state_names()), len(net.generators(0.0)), samples,
-                   float(v["t_end"]), steady_only)
-    if not nets:
-        return out
-    common = max(set(keys.values()), key=lambda k: sum(1 for v in keys.values() if v == k))
-    runs = [r for r in nets if keys[r] == common]
-    ss_mean, ss_amp, ss_ok = steady_stats([nets[r] for r in runs], STEADY_SIGNALS)
-    runs = [r for r, good in zip(runs, ss_ok) if good]        # a drive that does not balance: its single run
-    ss_mean, ss_amp = ss_mean[ss_ok], ss_amp[ss_ok]
-    steady = {r: [] for r in runs}
-    for j, r in enumerate(runs):
-        for name, (node, torque) in SHAFTS.items():
-            i = {s: STEADY_SIGNALS.index(s) for s in (f"omega_{node}", f"accel_{node}", torque)}
-            steady[r] += [ss_mean[j, i[f"omega_{node}"]], ss_amp[j, i[f"omega_{node}"]],
-                          ss_amp[j, i[f"accel_{node}"]], ss_mean[j, i[torque]], ss_amp[j, i[torque]]]
-        steady[r] += [ss_mean[j, STEADY_SIGNALS.index("omega_1")], ss_mean[j, STEADY_SIGNALS.index("M_motor")],
-                      ss_amp[j, STEADY_SIGNALS.index("M_motor")]]
-    if steady_only:
-        for j, r in enumerate(runs):
-            # the single run's stall checks (motor mean torque under breakdown, turning forwards):
-            # a run near or past either goes through it
-            breakdown = vals[r]["breakdown_factor"] * vals[r]["rated_torque"]
-            torque, speed = ss_mean[j, STEADY_SIGNALS.index("M_motor")], ss_mean[j, STEADY_SIGNALS.index("omega_1")]
-            if abs(torque) / breakdown > 1 - MARGIN or not speed > 0:
-                continue
-            out[r] = steady[r]
-        return out
-
-    _, _, _, samples, t_end, _ = common
-    t = np.linspace(0.0, t_end, samples)
-    first, window = [], {}
-    for r in runs:
-        v = vals[r]
-        window[r] = whole_period_window(v["t_end"], v["window"], nets[r].frequencies()[0])
-        first.append(int(np.searchsorted(t, window[r][0] - 1e-12, side="left")))
-    wanted = [s for node, torque in SHAFTS.values() for s in (f"omega_{node}", f"accel_{node}", torque)]
-    wanted += ["omega_1", "M_motor"]
-    est = cfg.estimate_error
-    for idx, k, Y, err in exact_windows([nets[r] for r in runs], t, first, wanted, est):
-        seps = resonance_separation([nets[runs[jj]] for jj in idx])
-        for j, jj in enumerate(idx):
-            r = runs[jj]
-            v, periods = vals[r], window[r][1]
-            if periods < 1:
-                continue                               # a window shorter than a period: a warning
-            if est and err[j] > 0.5 * cfg.error_tol:
-                continue                               # auto would refine; the single run decides
-            mean, amp, lo, hi = window_stats(t[first[jj]:], Y[j, :, first[jj] - k:])
-            row = []
-            for s in (0, 3):                           # main, bottom: speed, accel, torque
-                row += [mean[s], amp[s], amp[s + 1], mean[s + 2], amp[s + 2]]
-            row += [mean[6], mean[7], amp[7]]
-            breakdown = v["breakdown_factor"] * v["rated_torque"]
-            utils = [abs(mean[7]) / breakdown, max(abs(lo[7]), abs(hi[7])) / breakdown]
-            if not mean[6] > 0:                        # the motor turns backwards: the single run's stall check
-                continue
-            if est:
-                utils.append(err[j] / cfg.error_tol)
-            if np.isfinite(seps[j]):                   # resonance_check: separation >= the rule's margin
-                utils.append(RULES["resonance"].limit / seps[j] if seps[j] > 0 else math.inf)
-            # settling_check: the transient left at the window start (the single run's check)
-            settled = settling_check(nets[r], window[r][0], float(v["t_end"]))
-            if settled and settled[0].value is not None:
-                utils.append(settled[0].value / settled[0].limit)
-            if max(utils) > 1 - MARGIN:
-                continue
-            out[r] = [float(x) for x in row] + steady[r]
-    return out
-
-
 def resonance_separation(nets: Sequence) -> np.ndarray:
     """Per network the least relative separation ``|f_e - f_n| / f_n`` of a load's frequency
     (a sinusoid in time with an amplitude) from an undamped natural frequency of an
@@ -434,34 +332,3 @@ def resonance_separation(nets: Sequence) -> np.ndarray:
         if exc and fn.size:
             out[r] = min(float(np.min(np.abs(f - fn) / fn)) for f in exc)
     return out
-
-
-def rows_registry() -> dict[Callable, Callable]:
-    """A scene's ``run`` function -> the function giving each run's row from the batch (its
-    values in the order of the scene's columns, or None). Keyed by the run function itself, so
-    a scene whose run is replaced (another function) is never batched."""
-    from beltcalc.sim.scenes import sewing
-
-    return {sewing.run: _sewing}
-
-
-def batch_rows(plan, X: np.ndarray) -> list[list[float] | None]:
-    """Each run's row values (in its columns' order) where the scene has a batch
-    (:func:`rows_registry`) that can vouch for it, else None (the single run, one by one)."""
-    fn = rows_registry().get(getattr(plan.scene, "run", None))
-    if fn is None or len(X) == 0:
-        return [None] * len(X)
-    return fn(plan, np.asarray(X, dtype=float))
-
-
-def agrees(batch: Sequence[float], values: Mapping[str, float | None], rtol: float = VERIFY_RTOL) -> bool:
-    """True when the batch's row equals the single run's ``values`` (key -> SI) to ``rtol``,
-    column by column in order (an absolute floor of ``rtol`` times the row's largest value,
-    for a column that is zero)."""
-    ref = list(values.values())
-    if len(ref) != len(batch) or any(v is None for v in ref):
-        return False
-    a, b = np.asarray(batch, float), np.asarray(ref, float)
-    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-        return False
-    return bool(np.all(np.abs(a - b) <= rtol * np.maximum(np.abs(b), 1e-300) + 1e-14 * np.abs(b).max()))

@@ -1,4 +1,4 @@
-"""What a scene is, and running one: a single run, a sweep, or every method side by side.
+"""What a scene is, and running one.
 
 A :class:`Scene` names its parameters (:class:`~beltcalc.params.Param`), where their
 values come from (a scene file, by default ``catalogs/scenes/<file>.toml``), how they
@@ -7,9 +7,11 @@ build a :class:`~beltcalc.sim.network.Network` and how one run is reported (an
 is a scene: the built-in ones (:data:`beltcalc.sim.scenes.SCENES`), or a drive file whose
 parameters are its ``ELEMENT.KEY`` addresses.
 
-:func:`run_scene` and :func:`scene_work_precision` run a scene from SI (sweeps: :mod:`beltcalc.sim.sweeps`)
-values and a :class:`~beltcalc.sim.core.SolverConfig`. An error about one of the scene's
-values comes out with ``scope="scene"`` and the parameter's name (:func:`scene_values`).
+:func:`run_scene` runs a scene from SI values and a :class:`~beltcalc.sim.core.SolverConfig`
+(:func:`scene_network` builds its network alone; sweeps, tolerance studies and work-precision:
+:mod:`beltcalc.sim.study`). An error about one of the scene's values comes out with
+``scope="scene"`` and the parameter's name (:func:`scene_values`). A scene may declare its
+batch row (:class:`BatchRow`): what a study computes for many of its runs at once.
 Nothing here prints, parses options or writes files.
 """
 
@@ -155,6 +157,21 @@ def fixed_timing(values: Mapping[str, object], **options) -> tuple[float, int]:
 
 
 @dataclass(frozen=True)
+class BatchRow:
+    """A scene's rows by batched exact propagation (:mod:`beltcalc.sim.batch`), for a study.
+
+    ``rows(runs, cfg, **options)`` takes the runs of a chunk (each run's SI values, ``cfg``
+    and ``options`` as :attr:`Scene.run` takes them) and gives each run's row: the values
+    :meth:`Outcome.column_rows` would report, in their order, or None where the batch cannot
+    vouch for the run (it then goes through the scene's single run). ``run`` is the run
+    function whose rows these are: a scene whose ``run`` is another is not batched.
+    """
+
+    run: Callable[..., Outcome]
+    rows: Callable[..., list]
+
+
+@dataclass(frozen=True)
 class Scene:
     """A scene: its parameters and what to do with their values.
 
@@ -165,7 +182,8 @@ class Scene:
     work-precision table compares; ``sweep_example`` and ``sweep_columns`` show a sweep;
     ``plot`` lists the panels of a time plot. ``load(ref)`` reads the scene file
     (``title``, ``source.path``, ``values``: name -> (text, why)); by default
-    :func:`beltcalc.catalogs.load_scene` for ``simulate <name>``.
+    :func:`beltcalc.catalogs.load_scene` for ``simulate <name>``. ``batch``: the rows a
+    study may compute for many runs at once (:class:`BatchRow`; None: one run at a time).
     """
 
     name: str
@@ -179,6 +197,12 @@ class Scene:
     plot: tuple[Panel, ...] = ()
     timing: Callable[..., tuple[float, int]] = fixed_timing
     load: Callable[[str], object] | None = None
+    batch: BatchRow | None = None
+
+    @property
+    def batched(self) -> Callable[..., list] | None:
+        """The rows of :attr:`batch` where they are this scene's :attr:`run`'s, else None."""
+        return self.batch.rows if self.batch is not None and self.batch.run is self.run else None
 
     @property
     def timed(self) -> bool:
@@ -287,23 +311,10 @@ def _blame(scene: Scene, values: Mapping[str, object], exc, options):
     return blame(exc, changed, probe, show)
 
 
-@dataclass(frozen=True)
-class WorkPrecision:
-    """Every method against the exact solution on one scene (:mod:`beltcalc.sim.workprecision`)."""
-
-    rows: list                  # WorkRow
-    t_end: float                # s
-    samples: int
-    signal: str
-
-
-def scene_work_precision(scene: Scene, values: Mapping[str, object],
-                         progress: Callable[[], None] | None = None, **options) -> WorkPrecision:
-    """Run every method at every tolerance on the scene's network and measure each against
-    the exact solution on ``scene.signal``; ``progress()`` after each run (of
-    :func:`beltcalc.sim.workprecision.count_runs`)."""
-    from beltcalc.sim.workprecision import work_precision
-
+def scene_network(scene: Scene, values: Mapping[str, object], **options) -> tuple[object, float, int]:
+    """(network, t_end, samples) of ``scene`` at SI ``values``, as its run would build them: an
+    error about one of its values leaves with ``scope="scene"`` (:func:`scene_values`), an
+    overflow names the value that causes it."""
     with scene_values(p.name for p in scene.params):
         try:
             with float_range("the scene's model"):
@@ -311,8 +322,7 @@ def scene_work_precision(scene: Scene, values: Mapping[str, object],
                 t_end, samples = scene.timing(dict(values), **options)
         except FloatRangeError as exc:
             raise _blame(scene, values, exc, options) from None
-    rows = work_precision(net, t_end, samples, scene.signal, progress=progress)
-    return WorkPrecision(rows, t_end, samples, scene.signal)
+    return net, t_end, samples
 
 
 def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group: str,

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from typing import Sequence
 
 import numpy as np
 
@@ -17,9 +18,9 @@ from beltcalc.params import Param
 from beltcalc.checks import RULES, Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
-from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, SteadyRow, check_timing, exact_steady_state, motor_checks,
-                                      stall_checks,
-                                      resonance_check, scene_values, settling_check, steady_sections)
+from beltcalc.sim.scenes.base import (TIMING, BatchRow, Outcome, Scene, SteadyRow, check_timing, exact_steady_state,
+                                      motor_checks, resonance_check, scene_values, settling_check, stall_checks,
+                                      steady_sections)
 
 NODES = ("1", "2", "3", "4", "5")
 NAMES = {"1": "motor", "2": "driven-pulley rim", "3": "main shaft", "4": "toothed-pulley rim", "5": "bottom shaft"}
@@ -386,6 +387,102 @@ def _steady_sections(ss) -> list[Section]:
     return [replace(sec, key=key) for sec, key in zip(steady_sections(ss, layout), [*SHAFTS, "motor"])]
 
 
+def batched_rows(chunk: Sequence[dict], cfg, angle_loads: bool = False,
+                 steady_state_only: bool = False) -> list[list[float] | None]:
+    """The rows of :func:`run` (per shaft the window's speed mean and amplitude, acceleration
+    amplitude, torque mean and amplitude; the motor's speed mean, torque mean and amplitude;
+    the same in the exact periodic steady state) for the runs of a study's ``chunk`` (each
+    run's SI values) by batched exact propagation (:mod:`beltcalc.sim.batch`), where the batch
+    can vouch for the run; None for the others (their single run). The scene's batch row
+    (:class:`~beltcalc.sim.scenes.base.BatchRow`)."""
+    from beltcalc.sim.batch import MARGIN, exact_windows, resonance_separation, steady_stats, window_stats
+
+    if angle_loads or not steady_state_only and cfg.method not in ("auto", "exact"):
+        return [None] * len(chunk)
+    out: list = [None] * len(chunk)
+    nets, vals, keys = {}, {}, {}
+    for r, v in enumerate(chunk):
+        try:
+            samples = check_timing(v)
+            if v.get("roller_eccentricity", 0.0) > 0:
+                continue                               # the eccentric roller: nonlinear
+            net = build(v)
+        except Exception:                              # the single run says why, as a row
+            continue
+        freqs = net.frequencies()
+        if not (net.linear and net.smooth) or len(freqs) != 1 or freqs[0] <= 0:
+            continue
+        nets[r], vals[r] = net, v
+        keys[r] = (net.size, tuple(net.state_names()), len(net.generators(0.0)), samples,
+                   float(v["t_end"]), steady_state_only)
+    if not nets:
+        return out
+    common = max(set(keys.values()), key=lambda k: sum(1 for v in keys.values() if v == k))
+    runs = [r for r in nets if keys[r] == common]
+    ss_mean, ss_amp, ss_ok = steady_stats([nets[r] for r in runs], STEADY_SIGNALS)
+    runs = [r for r, good in zip(runs, ss_ok) if good]        # a drive that does not balance: its single run
+    ss_mean, ss_amp = ss_mean[ss_ok], ss_amp[ss_ok]
+    steady = {r: [] for r in runs}
+    for j, r in enumerate(runs):
+        for name, (node, torque) in SHAFTS.items():
+            i = {s: STEADY_SIGNALS.index(s) for s in (f"omega_{node}", f"accel_{node}", torque)}
+            steady[r] += [ss_mean[j, i[f"omega_{node}"]], ss_amp[j, i[f"omega_{node}"]],
+                          ss_amp[j, i[f"accel_{node}"]], ss_mean[j, i[torque]], ss_amp[j, i[torque]]]
+        steady[r] += [ss_mean[j, STEADY_SIGNALS.index("omega_1")], ss_mean[j, STEADY_SIGNALS.index("M_motor")],
+                      ss_amp[j, STEADY_SIGNALS.index("M_motor")]]
+    if steady_state_only:
+        for j, r in enumerate(runs):
+            # the single run's stall checks (motor mean torque under breakdown, turning forwards):
+            # a run near or past either goes through it
+            breakdown = vals[r]["breakdown_factor"] * vals[r]["rated_torque"]
+            torque, speed = ss_mean[j, STEADY_SIGNALS.index("M_motor")], ss_mean[j, STEADY_SIGNALS.index("omega_1")]
+            if abs(torque) / breakdown > 1 - MARGIN or not speed > 0:
+                continue
+            out[r] = steady[r]
+        return out
+
+    _, _, _, samples, t_end, _ = common
+    t = np.linspace(0.0, t_end, samples)
+    first, window = [], {}
+    for r in runs:
+        v = vals[r]
+        window[r] = whole_period_window(v["t_end"], v["window"], nets[r].frequencies()[0])
+        first.append(int(np.searchsorted(t, window[r][0] - 1e-12, side="left")))
+    wanted = [s for node, torque in SHAFTS.values() for s in (f"omega_{node}", f"accel_{node}", torque)]
+    wanted += ["omega_1", "M_motor"]
+    est = cfg.estimate_error
+    for idx, k, Y, err in exact_windows([nets[r] for r in runs], t, first, wanted, est):
+        seps = resonance_separation([nets[runs[jj]] for jj in idx])
+        for j, jj in enumerate(idx):
+            r = runs[jj]
+            v, periods = vals[r], window[r][1]
+            if periods < 1:
+                continue                               # a window shorter than a period: a warning
+            if est and err[j] > 0.5 * cfg.error_tol:
+                continue                               # auto would refine; the single run decides
+            mean, amp, lo, hi = window_stats(t[first[jj]:], Y[j, :, first[jj] - k:])
+            row = []
+            for s in (0, 3):                           # main, bottom: speed, accel, torque
+                row += [mean[s], amp[s], amp[s + 1], mean[s + 2], amp[s + 2]]
+            row += [mean[6], mean[7], amp[7]]
+            breakdown = v["breakdown_factor"] * v["rated_torque"]
+            utils = [abs(mean[7]) / breakdown, max(abs(lo[7]), abs(hi[7])) / breakdown]
+            if not mean[6] > 0:                        # the motor turns backwards: the single run's stall check
+                continue
+            if est:
+                utils.append(err[j] / cfg.error_tol)
+            if np.isfinite(seps[j]):                   # resonance_check: separation >= the rule's margin
+                utils.append(RULES["resonance"].limit / seps[j] if seps[j] > 0 else math.inf)
+            # settling_check: the transient left at the window start (the single run's check)
+            settled = settling_check(nets[r], window[r][0], float(v["t_end"]))
+            if settled and settled[0].value is not None:
+                utils.append(settled[0].value / settled[0].limit)
+            if max(utils) > 1 - MARGIN:
+                continue
+            out[r] = [float(x) for x in row] + steady[r]
+    return out
+
+
 SCENE = Scene(
     "sewing", "sewing", PARAMS, build, run, "omega_3", "C4=50N*m/rad:310N*m/rad:14",
     # shown in a sweep's table: the exact steady state's, else (loads in the shaft angle) the window's
@@ -397,4 +494,5 @@ SCENE = Scene(
     (("speed [rad/s]", (("omega_3", "main shaft"), ("omega_5", "bottom shaft"))),
      ("acceleration [rad/s^2]", (("accel_3", "main shaft"), ("accel_5", "bottom shaft"))),
      ("transmitted torque [N m]", (("T_23", "main shaft"), ("T_45", "bottom shaft")))),
+    batch=BatchRow(run, batched_rows),
 )

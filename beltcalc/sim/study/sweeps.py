@@ -1,9 +1,7 @@
 """Sweeps and grids over a scene's parameters: one run per point, each through
 :func:`beltcalc.sim.scenes.base.run_scene` (in this process, or on Dask through
-:func:`beltcalc.sim.study.execute`), collected in a :class:`Sweep` (columns, rows, failing
-checks, warnings; no time series unless asked).
-
-Above the scenes and the study engine (it imports both); nothing under it imports it.
+:func:`beltcalc.sim.study.execution.execute`), collected in a :class:`Sweep` (columns, rows,
+failing checks, warnings; no time series unless asked).
 """
 
 from __future__ import annotations
@@ -13,13 +11,16 @@ from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping, Sequence
 
 from beltcalc.sim.scenes.base import Column, Scene, run_scene
+from beltcalc.sim.study.execution import grid_rows
+from beltcalc.sim.study.plan import Plan
+from beltcalc.sim.study.runs import RunRow
 
 
 @dataclass(frozen=True)
 class Sweep:
     """The runs of a grid: one parameter, or several (the product, the last varying
     fastest). ``points[k]`` is the value (one parameter) or the tuple of values (several)
-    of run ``k``, ``runs[k]`` its :class:`~beltcalc.sim.study.RunRow` (its columns, failing
+    of run ``k``, ``runs[k]`` its :class:`~beltcalc.sim.study.runs.RunRow` (its columns, failing
     checks, warnings, or the reason it failed); ``columns`` every column any run reported,
     in the order first met. No time series is kept (``outcomes`` only when asked:
     :func:`sweep_scene` with ``keep_outcomes``)."""
@@ -51,7 +52,7 @@ class Sweep:
         return out
 
     def header(self) -> list[str]:
-        """The swept parameters, then every reported value (:meth:`Outcome.columns`)."""
+        """The swept parameters, then every reported value (:meth:`~beltcalc.sim.scenes.base.Outcome.columns`)."""
         return [c.key for c in self.column_info()]
 
     def column_info(self) -> list[Column]:
@@ -146,12 +147,10 @@ def grid_scene(scene: Scene, values: Mapping[str, object], grid: Sequence[tuple[
                notes: list[str] | None = None, **options) -> Sweep:
     """One run per point of the product of ``grid`` (``[(name, points), ...]``), the other
     values as given; ``progress(n)`` after each ``n`` runs. Runs go through
-    :func:`beltcalc.sim.study.execute` (``workers``, ``scheduler``: in this process or on
+    :func:`beltcalc.sim.study.execution.execute` (``workers``, ``scheduler``: in this process or on
     Dask). A run that fails (a solver failure) is a row with its reason; a point that is no
     valid value of its parameter, or a grid whose every run fails, raises the first such
     run's error."""
-    from beltcalc.sim.study import Plan, grid_rows
-
     names = tuple(n for n, _ in grid)
     plan = Plan(scene, dict(values), cfg, names, grid=tuple(tuple(float(x) for x in p) for _, p in grid),
                 options=dict(options))
@@ -173,14 +172,13 @@ def grid_scene(scene: Scene, values: Mapping[str, object], grid: Sequence[tuple[
 def sweep_scene(scene: Scene, values: Mapping[str, object], name: str, points: Sequence[float], cfg,
                 progress: Callable[[], None] | None = None, keep_outcomes: bool = False, **options) -> Sweep:
     """One run per value of ``name`` in ``points``, the other values as given; ``progress()``
-    is called after each run. ``keep_outcomes`` keeps every run's :class:`Outcome` (its
-    time series: 2.5 MiB a run of the sewing scene) in ``Sweep.outcomes``; a run that then
-    fails raises."""
+    is called after each run. ``keep_outcomes`` keeps every run's
+    :class:`~beltcalc.sim.scenes.base.Outcome` (its time series: 2.5 MiB a run of the sewing
+    scene) in ``Sweep.outcomes``; a run that then fails raises."""
     if not keep_outcomes:
         step = None if progress is None else (lambda n: [progress() for _ in range(n)])
         return grid_scene(scene, values, [(name, points)], cfg, step, **options)
     from beltcalc.checks import failures
-    from beltcalc.sim.study import RunRow
 
     outcomes, runs, columns = [], [], {}
     for v in points:

@@ -1,4 +1,5 @@
-"""Work-precision: every method of the core on one network, wall time against error.
+"""Work-precision: every method of the core on one network (:func:`work_precision`) or on a
+scene's (:func:`scene_work_precision`), wall time against error.
 
 The reference is the exact solution; the error is the largest absolute difference of one
 speed over the whole run. The exact row's own error is its estimate: the difference to an
@@ -10,7 +11,7 @@ stability, not accuracy, and a row says when the budget stopped them.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Mapping
 
 import numpy as np
 
@@ -18,6 +19,7 @@ from beltcalc.errors import SimulationError
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.methods import METHODS
 from beltcalc.sim.network import Network
+from beltcalc.sim.scenes.base import Scene, scene_network
 
 TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
 EXACT_REPEATS = 30       # the exact row's time: the best of this many runs (cheap next to one scipy run)
@@ -79,3 +81,21 @@ def fastest_at(rows: list[WorkRow], error: float) -> dict[str, WorkRow]:
     return out
 
 
+@dataclass(frozen=True)
+class WorkPrecision:
+    """Every method against the exact solution on one scene (:func:`scene_work_precision`)."""
+
+    rows: list                  # WorkRow
+    t_end: float                # s
+    samples: int
+    signal: str
+
+
+def scene_work_precision(scene: Scene, values: Mapping[str, object],
+                         progress: Callable[[], None] | None = None, **options) -> WorkPrecision:
+    """Run every method at every tolerance on the scene's network at SI ``values`` and measure
+    each against the exact solution on ``scene.signal``; ``progress()`` after each run (of
+    :func:`count_runs`)."""
+    net, t_end, samples = scene_network(scene, values, **options)
+    rows = work_precision(net, t_end, samples, scene.signal, progress=progress)
+    return WorkPrecision(rows, t_end, samples, scene.signal)

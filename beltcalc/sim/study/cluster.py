@@ -1,12 +1,12 @@
-"""The Dask cluster a study runs on (:func:`beltcalc.sim.study.execute`), started, run and
-stopped quietly.
+"""The Dask cluster a study runs on (:func:`beltcalc.sim.study.execution.execute`), started,
+run and stopped quietly.
 
 Dask logs to stderr on its own: its workers' heartbeats that fail while a cluster shuts down
 (``distributed.comm.core.CommClosedError ... Stream is closed``), its nannies' restarts.
 While a study runs here, the loggers of ``distributed`` and ``tornado`` stand at CRITICAL
 in this process (as they were, after) and in each worker process (:data:`WORKER_ENVIRON`),
 and Dask's warnings are ignored; what matters reaches the study as a failed task, which
-becomes rows with their reason (:func:`beltcalc.sim.study.failed_chunk`), or as one error
+becomes rows with their reason (:func:`beltcalc.sim.study.runs.failed_chunk`), or as one error
 line when the cluster does not start.
 
 A worker process of a local cluster starts by Python's ``spawn``, which runs the parent's

@@ -305,7 +305,7 @@ def motor_size_peak(ref: str, catalog) -> MotorPeak:
         except (ValueError, RecursionError):
             raise InputError(f"{quote(ref)} is not JSON", param="motor_size") from None
         return motor_peak_from_json(obj, quote(ref))
-    from beltcalc.catalogs import load_scene
+    from beltcalc.scenefile import load_scene
     from beltcalc.errors import BeltcalcError
     from beltcalc.params import resolve
     from beltcalc.sizing import PARAMS, SizingInputs, size_cycle

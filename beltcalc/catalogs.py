@@ -3,9 +3,11 @@
 A catalog file is TOML. It has a ``[source]`` table (``document``, optionally
 ``location`` and ``edition``), an optional ``units`` table naming the unit of every
 numeric key, and arrays of entries ``[[belts]]``, ``[[threads]]``, ``[[motors]]``,
-``[[chains]]`` (any of them), or named ``[service_factors.NAME]`` tables. An entry may carry its own ``units`` (merged over the file's) and its own
-``source`` string. Every number is converted to SI once, here; no other module reads a
-catalog file or knows a catalog number.
+``[[chains]]`` (any of them), or named ``[service_factors.NAME]`` tables. An entry may
+carry its own ``units`` (merged over the file's) and its own ``source`` string. The keys
+of each are declared once, as :mod:`beltcalc.schema` records (:data:`CATALOG_FILE`), which
+convert every number to SI once, here; no other module reads a catalog file or knows a
+catalog number.
 
 This module is also the one place that resolves where the built-in catalogs live: the
 ``catalogs/`` folder of a source checkout, or ``beltcalc/catalogs`` inside an installed
@@ -16,14 +18,14 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from dataclasses import dataclass, field
-from functools import lru_cache
 from pathlib import Path
 from typing import Iterable
 
 from beltcalc.errors import CatalogError, UnknownNameError, did_you_mean
-from beltcalc.units import conversion_factor, quote, unit_problem
+from beltcalc.schema import Entries, Flag, List, Named, Names, Quantity, Record, Section, Text, TomlFile, Whole
+from beltcalc.tomlsafe import MAX_NAME, quote, shown_path
+from beltcalc.tomlsafe import read_toml  # noqa: F401  (the drive files read it here until they use the schema)
 
 
 def builtin_dir() -> Path:
@@ -47,6 +49,10 @@ class Source:
     def __str__(self) -> str:
         parts = [self.document, self.location, self.edition]
         return "; ".join(p for p in parts if p)
+
+    def within(self, own: str | None) -> Source:
+        """The source of an entry that names its own ``own`` (None: this one), inside this file's."""
+        return self if own is None else Source(document=own, location=self.document, path=self.path)
 
 
 @dataclass(frozen=True)
@@ -199,411 +205,210 @@ class ServiceFactors:
     speed_up: tuple[float, ...]
 
 
-# Per kind: key -> SI unit ("" for plain numbers); keys marked required must be present.
-_BELT_KEYS = {"pitch": "m", "C_spec_per_F_Tadm": "", "damping": "N*s/m", "d_min": "m", "d_min_contraflexure": "m"}
-_BELT_ROW_KEYS = {"width": "m", "F_Tadm": "N", "C_spec": "N", "w_spec": "kg/m", "breaking": "N"}
-_FTSPEC_KEYS = {"speed": "rad/s", "load": "N/m"}
-_THREAD_KEYS = {"d": "m", "P": "m", "d2": "m", "flank_angle": "rad"}
-_MOTOR_KEYS = {"P": "W", "T_n": "N*m", "T_max": "N*m", "J": "kg*m^2",
-               "n_rated": "rad/s", "n_max": "rad/s", "efficiency": ""}
-_CHAIN_KEYS = {"pitch": "m", "roller_diameter": "m", "inner_width": "m", "pin_diameter": "m",
-               "transverse_pitch": "m", "roller_bushing_constant": ""}
-_TEXT_KEYS = {"manufacturer", "profile", "name", "series", "source", "note", "damping_source", "units"}
+# --- the schema of a catalog file: numbers in the units of the `units` tables ---------------
+def _number(unit: str, help: str, required: bool = False, low: str = ">0", **kw) -> Quantity:
+    """A catalog number in ``unit`` (SI; its unit in the ``units`` table), > 0 unless ``low``."""
+    return Quantity(unit, help=help, required=required, low=low, **kw)
 
 
-@lru_cache(maxsize=None)
-def _unit_problem(unit: str, si_unit: str) -> str:
-    """Why ``unit`` is not a unit of the dimension of ``si_unit`` ("" if it is one)."""
-    return unit_problem(unit, si_unit)
-
-
-MAX_DEPTH = 32                  # tables and arrays in tables and arrays: the catalogs need 4
-MAX_FILE_BYTES = 20_000_000     # a catalog, scene or drive file; the largest built-in is ~30 kB
-MAX_NAME = 100                  # characters of a name (manufacturer, profile, motor, ...)
-MAX_TEXT = 10_000               # characters of any other text (a note, a source)
 MAX_FLANK_ANGLE = math.radians(120.0)
-_NAME_KEYS = {"manufacturer", "profile", "name", "series", "iso"}
+
+SOURCE = Record({
+    "document": Text(required=True, help="every file names the document its numbers come from"),
+    "location": Text(numbers=True, help="where in it: page, table, address"),
+    "edition": Text(numbers=True, help="its edition or date"),
+})
+ENTRY_TEXTS = {"source": Text(filled=True, help="this entry's own source, within the file's"),
+               "note": Text(help="a remark")}
+BELT_WIDTH = Record({
+    "width": _number("m", "belt width", required=True), "F_Tadm": _number("N", "admissible tension force"),
+    "C_spec": _number("N", "specific stiffness"), "w_spec": _number("kg/m", "weight per length"),
+    "breaking": _number("N", "breaking force"),
+})
+F_TSPEC_ROW = Record({
+    "speed": _number("rad/s", "speed of the driving pulley", required=True, low=">=0"),
+    "load": _number("N/m", "tooth load per tooth in mesh and belt width", required=True, unit_key="F_tspec"),
+})
+ZONE_POINT = Record({
+    "speed": _number("rad/s", "motor speed", required=True, low=">=0"),
+    "torque": _number("N*m", "torque at that speed", required=True, low=">=0"),
+})
+TEETH = Whole(help="a tooth count", low=">0")
+BELT = Record({
+    "manufacturer": Text(name=True, required=True, help="the maker, e.g. BRECO"),
+    "profile": Text(name=True, required=True, help="the profile, e.g. AT10"),
+    "pitch": _number("m", "tooth pitch", required=True),
+    "C_spec_per_F_Tadm": _number("", "C_spec / F_Tadm, the same for every width"),
+    "damping": _number("N*s/m", "belt damping b_TB where there is no F_tspec table"),
+    "d_min": _number("m", "smallest tension-roller diameter"),
+    "d_min_contraflexure": _number("m", "smallest tension-roller diameter with contraflexure"),
+    "widths": Entries(record=BELT_WIDTH, help="the width table, widths ascending"),
+    "F_tspec": Entries(record=F_TSPEC_ROW, help="specific tooth load against speed, from speed 0"),
+    "z_e_max": Whole(help="most teeth in mesh", low=">0"), "z_min": Whole(help="fewest pulley teeth", low=">0"),
+    "z_min_contraflexure": Whole(help="fewest pulley teeth with contraflexure", low=">0"),
+    "stock_teeth": List(item=TEETH, rising=True, help="the stock belts' tooth counts, ascending"),
+    "open_length": Flag(help="an open-length belt, cut to length"),
+    "damping_source": Text(help="where the damping comes from"), **ENTRY_TEXTS,
+}, units=True)
+THREAD = Record({
+    "name": Text(name=True, required=True, help="e.g. M10x1"), "series": Text(name=True, default="", help="e.g. fine"),
+    "d": _number("m", "nominal diameter", required=True), "P": _number("m", "pitch", required=True),
+    "d2": _number("m", "pitch diameter", required=True),
+    "flank_angle": _number("rad", "flank angle (metric 60 deg)", required=True), **ENTRY_TEXTS,
+}, units=True)
+MOTOR = Record({
+    "name": Text(name=True, required=True, help="e.g. SGM7J-04A"),
+    "series": Text(name=True, default="", help="e.g. Sigma-7"),
+    "P": _number("W", "rated power", required=True), "T_n": _number("N*m", "rated torque", required=True),
+    "T_max": _number("N*m", "peak torque", required=True), "J": _number("kg*m^2", "rotor inertia", required=True),
+    "n_rated": _number("rad/s", "rated speed", required=True),
+    "n_max": _number("rad/s", "maximum speed", required=True),
+    "efficiency": _number("", "efficiency", high=1.0),
+    "intermittent": Entries(record=ZONE_POINT, help="the intermittent torque-speed zone, speeds from 0 to n_max"),
+    "continuous": Entries(record=ZONE_POINT, help="the continuous torque-speed zone, speeds from 0 to n_max"),
+    "zone_source": Text(help="where the torque-speed zones come from"), **ENTRY_TEXTS,
+}, units=True)
+CHAIN = Record({
+    "name": Text(name=True, required=True, help="the size, e.g. 10B"),
+    "series": Text(name=True, default="", help="A or B"),
+    "iso": Text(name=True, help="the ISO 606 name of an ANSI size, e.g. 08A"),
+    "pitch": _number("m", "pitch", required=True), "roller_diameter": _number("m", "roller diameter", required=True),
+    "inner_width": _number("m", "inner width", required=True),
+    "pin_diameter": _number("m", "pin diameter", required=True),
+    "transverse_pitch": _number("m", "transverse pitch of a multi-strand chain"),
+    "roller_bushing_constant": _number("", "K_r of the ACA roller-bushing rating"),
+    "breaking_load": List(item=_number("N", "breaking load"), least=1, rising=True, required=True,
+                          help="breaking loads by strand count 1, 2, ..., rising"),
+    "mass": Named(item=_number("kg/m", "mass per length"), help="{ strands = mass }"),
+    "lubrication": Section(record=Record({
+        "A": _number("m/s", "highest chain speed of lubrication Type A", required=True, unit_key="lubrication"),
+        "B": _number("m/s", "highest chain speed of lubrication Type B", required=True, unit_key="lubrication"),
+    }), help="{ A = speed, B = speed }"), **ENTRY_TEXTS,
+}, units=True)
+_FACTOR = _number("", "a factor", low=">=0")
+_LIMITS = List(item=_FACTOR, required=True, help="class limits")
+SERVICE_FACTORS = Record({
+    "load_kinds": Names(required=True, help="the kinds of load"), "load_examples": List(item=Text()),
+    "peak_ratio_bounds": _LIMITS, "hours_bounds": _LIMITS, "starts_bounds": _LIMITS, "speed_up_bounds": _LIMITS,
+    "base": List(item=List(item=List(item=_FACTOR)), required=True, help="[load kind][peak class][hours class]"),
+    "start_stop": List(item=List(item=_FACTOR), required=True, help="[peak class][starts class]"),
+    "speed_up": List(item=_FACTOR, required=True, help="by speed-up class"),
+    "idler": Named(item=_number("", "added factor", low=""), required=True, help="{ position = added factor }"),
+})
+CATALOG_FILE = Record({
+    "source": Section(record=SOURCE, required=True, help="[source] with a document"),
+    "belts": Entries(record=BELT), "threads": Entries(record=THREAD), "motors": Entries(record=MOTOR),
+    "chains": Entries(record=CHAIN), "service_factors": Named(item=Section(record=SERVICE_FACTORS)),
+}, units=True)
 
 
-def shown_key(key: str, limit: int = 40) -> str:
-    r"""A key path as a message shows it: every part cut to ``limit`` characters and every
-    character that is not printable (a newline, a right-to-left override) escaped.
-
-    >>> shown_key("belts[0]." + "x" * 100_000), shown_key("a\u202eb.c")
-    ('belts[0].xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx... (100000 characters)', 'a\\u202eb.c')
-    """
-    parts = []
-    for part in str(key).split("."):
-        cut = part[:limit] + f"... ({len(part)} characters)" if len(part) > limit else part
-        parts.append("".join(c if c.isprintable() else repr(c)[1:-1] for c in cut))
-    return ".".join(parts)
+def file_source(file: TomlFile) -> Source:
+    """The ``[source]`` of a file read by a record with :data:`SOURCE` as ``source``."""
+    return Source(**file.values["source"], path=str(file.path))
 
 
-def text_problem(text: str, name: bool = False) -> str:
-    r"""Why ``text`` cannot stand in a catalog ("" if it can): a control or formatting
-    character (a newline in a name, a right-to-left override anywhere, which would make a
-    table or a message say something else than the file), or a text too long.
-
-    >>> text_problem("BRECO"), text_problem("AT\u202e01", name=True)
-    ('', "'AT\\u202e01' holds the character U+202E; names are printable text on one line")
-    """
-    import unicodedata
-
-    limit = MAX_NAME if name else MAX_TEXT
-    if len(text) > limit:
-        return f"{quote(text)} is too long (at most {limit} characters)"
-    allowed = "" if name else "\n\t"
-    for c in text:
-        if c not in allowed and unicodedata.category(c) in ("Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp"):
-            what = "names are printable text on one line" if name else "texts are printable (newlines and tabs allowed)"
-            return f"{quote(text)} holds the character U+{ord(c):04X}; {what}"
-    if name and text != text.strip():
-        return f"{quote(text)} starts or ends with a space"
-    return ""
+def _rising(values) -> bool:
+    return all(a < b for a, b in zip(values, values[1:]))
 
 
-def shown_path(path, limit: int = 200) -> str:
-    """A file path as a message shows it: characters that are not printable escaped, cut
-    to ``limit`` characters (the line stays one line).
-
-    >>> print(shown_path("my\\ncatalog.toml"))
-    my\\ncatalog.toml
-    """
-    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(path))
-    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
-
-
-def read_toml(path: Path, what: str = "catalog file") -> dict:
-    """The TOML file ``path`` as a dict, or a :class:`CatalogError` naming the file: missing,
-    unreadable, not UTF-8, not TOML, too large (:data:`MAX_FILE_BYTES`) or nested deeper
-    than :data:`MAX_DEPTH` (a 5,000-level array would exhaust Python's recursion)."""
-    shown = shown_path(path)
-    try:
-        size = os.stat(path).st_size
-        if size > MAX_FILE_BYTES:
-            raise CatalogError(f"{shown}: {size} bytes; a {what} has at most {MAX_FILE_BYTES} bytes")
-        with open(path, "rb") as fh:
-            raw = fh.read()
-        # a byte-order mark (Windows editors save one) is no part of the TOML
-        data = tomllib.loads(raw.decode("utf-8-sig"))
-    except FileNotFoundError:
-        raise CatalogError(f"{what} {shown} does not exist") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise CatalogError(f"{shown}: not valid TOML ({exc})") from None
-    except UnicodeDecodeError as exc:
-        raise CatalogError(f"{shown}: not UTF-8 text (byte {exc.start}); save it as UTF-8") from None
-    except (RecursionError, MemoryError):
-        raise CatalogError(f"{shown}: nested too deeply (more than {MAX_DEPTH} levels of tables and arrays)") \
-            from None
-    except OSError as exc:
-        raise CatalogError(f"{shown}: cannot be read ({exc.strerror})") from None
-    _check_depth(shown, data)
-    return data
+def _shape_problem(value: tuple, shape: tuple[int, ...], at: str) -> tuple[str, str]:
+    """(where, why) ``value``'s nested lengths differ from ``shape``, or ("", "")."""
+    if len(value) != shape[0]:
+        return at, f"{len(value)} values; the table's shape is {shape}"
+    for i, inner in enumerate(value if len(shape) > 1 else ()):
+        where, why = _shape_problem(inner, shape[1:], f"{at}[{i}]")
+        if why:
+            return where, why
+    return "", ""
 
 
-def _check_depth(shown: str, data: dict) -> None:
-    """Refuse tables and arrays nested deeper than :data:`MAX_DEPTH` (iteratively), and keys
-    with control characters or longer than :data:`MAX_NAME` characters, naming the key."""
-    stack = [(data, 1, "")]
-    while stack:
-        node, depth, where = stack.pop()
-        if depth > MAX_DEPTH:
-            raise CatalogError(f"{shown}: {shown_key(where)}: nested too deeply (more than {MAX_DEPTH} levels "
-                               "of tables and arrays)")
-        items = node.items() if isinstance(node, dict) else enumerate(node)
-        for key, value in items:
-            if isinstance(key, str):
-                problem = text_problem(key, name=True)
-                if problem:
-                    raise CatalogError(f"{shown}: {shown_key(f'{where}.{key}'.lstrip('.'))}: key {problem}")
-                inner = f"{where}.{key}".lstrip(".")
-            else:
-                inner = f"{where}[{key}]"
-            if isinstance(value, (dict, list)):
-                stack.append((value, depth + 1, inner))
+class CatalogFile:
+    """One catalog file read by :data:`CATALOG_FILE`: its entries as SI dataclasses, checked
+    against each other (widths and speeds ascending, d2 < d, ...). Every error names the
+    file and the key."""
 
+    def __init__(self, path: Path):
+        self.file = TomlFile(path, CATALOG_FILE)
+        self.source = file_source(self.file)
+        self.fail = self.file.fail
+        values = self.file.values
+        self.belts = [self.belt(e, f"belts[{i}]") for i, e in enumerate(values.get("belts", []))]
+        self.threads = [self.thread(e, f"threads[{i}]") for i, e in enumerate(values.get("threads", []))]
+        self.motors = [self.motor(e, f"motors[{i}]") for i, e in enumerate(values.get("motors", []))]
+        self.chains = [c for i, e in enumerate(values.get("chains", [])) for c in self.chain(e, f"chains[{i}]")]
+        self.service_factors = [self.factors(name, t, f"service_factors.{name}")
+                                for name, t in values.get("service_factors", {}).items()]
 
-class CatalogReader:
-    """Reads one catalog file; every error names the file and the key."""
+    def belt(self, e: dict, where: str) -> BeltProfile:
+        widths = tuple(BeltWidth(**row) for row in e.pop("widths", ()))
+        if not _rising([r.width for r in widths]):
+            self.fail(f"{where}.widths", "widths must be sorted ascending, without repeats")
+        table = tuple((row["speed"], row["load"]) for row in e.pop("F_tspec", ()))
+        speeds = [s for s, _ in table]
+        if not _rising(speeds):
+            self.fail(f"{where}.F_tspec", "speeds must be sorted ascending, without repeats")
+        if table and (len(table) < 2 or speeds[0] != 0.0):
+            self.fail(f"{where}.F_tspec", f"{len(table)} row{'s' * (len(table) != 1)} from {speeds[0]:g} rad/s; the "
+                                          "table needs a row at speed 0 and at least one more (it is interpolated)")
+        return BeltProfile(source=self.source.within(e.pop("source", None)), widths=widths, F_tspec=table, **e)
 
-    def __init__(self, path: Path, allowed=("source", "units", "belts", "threads", "motors", "chains",
-                                            "service_factors")):
-        self.path = path
-        self.data = read_toml(path)
-        src = self.data.get("source")
-        if not isinstance(src, dict) or not isinstance(src.get("document"), str):
-            self.fail("source.document", "every catalog file needs [source] with a 'document' string")
-        self.source = Source(
-            document=src["document"], location=str(src.get("location", "")),
-            edition=str(src.get("edition", "")), path=str(path),
-        )
-        self.units = self.data.get("units", {})
-        unknown = set(self.data) - set(allowed)
-        if unknown:
-            key = sorted(unknown)[0]
-            self.fail(key, f"unknown top-level key; {did_you_mean(key, allowed, listed=len(allowed))}")
+    def thread(self, e: dict, where: str) -> Thread:
+        if e["d2"] >= e["d"]:
+            self.fail(f"{where}.d2", "pitch diameter must be smaller than the nominal diameter")
+        if e["flank_angle"] >= MAX_FLANK_ANGLE:
+            self.fail(f"{where}.flank_angle", f"{math.degrees(e['flank_angle']):g} deg is not allowed; it must "
+                                              f"be in (0, {math.degrees(MAX_FLANK_ANGLE):g}) deg "
+                                              "(metric threads 60 deg, trapezoidal 30 deg)")
+        e.pop("note", None)
+        return Thread(source=self.source.within(e.pop("source", None)), **e)
 
-    def fail(self, key: str, message: str):
-        raise CatalogError(f"{shown_path(self.path)}: {shown_key(key)}: {message}")
+    def motor(self, e: dict, where: str) -> Motor:
+        if e["T_max"] < e["T_n"]:
+            self.fail(f"{where}.T_max", "peak torque is below the rated torque")
+        if e["n_max"] < e["n_rated"]:
+            self.fail(f"{where}.n_max", "maximum speed is below the rated speed")
+        for key in ("intermittent", "continuous"):
+            points = tuple((p["speed"], p["torque"]) for p in e.pop(key, ()))
+            speeds = [w for w, _ in points]
+            if points and (len(points) < 2 or speeds[0] != 0 or not _rising(speeds)):
+                self.fail(f"{where}.{key}", "needs 2 or more points, speeds ascending from 0")
+            if points and speeds[-1] < e["n_max"] * (1 - 1e-9):
+                self.fail(f"{where}.{key}", "must reach the maximum speed n_max")
+            if points and "zone_source" not in e:
+                self.fail(f"{where}.zone_source", "a torque-speed zone must say where it comes from")
+            e[key] = points
+        e.pop("note", None)
+        return Motor(source=self.source.within(e.pop("source", None)), **e)
 
-    def entries(self, kind: str) -> list[dict]:
-        return self.rows(self.data, kind, kind)
+    def chain(self, e: dict, where: str) -> list[Chain]:
+        """One chain entry: a :class:`Chain` per strand count of its breaking loads."""
+        loads, masses = e.pop("breaking_load"), e.pop("mass", {})
+        for k in masses:
+            if not (k.isdigit() and 1 <= int(k) <= len(loads)):
+                self.fail(f"{where}.mass.{k}", f"not a strand count; the keys are strand counts 1..{len(loads)} "
+                                                "(one per breaking load)")
+        masses = {int(k): m for k, m in masses.items()}
+        lub = e.pop("lubrication", None)
+        if lub is not None and not lub["A"] < lub["B"]:
+            self.fail(f"{where}.lubrication", "Type A's highest speed must be below Type B's")
+        size, source = e.pop("name"), self.source.within(e.pop("source", None))
+        e.pop("note", None)
+        return [Chain(name=f"{size}-{k}", size=size, strands=k, breaking_load=load, mass=masses.get(k),
+                      lubrication=lub and (lub["A"], lub["B"]), source=source, **e)
+                for k, load in enumerate(loads, start=1)]
 
-    def rows(self, entry: dict, key: str, where: str) -> list[dict]:
-        """``entry[key]`` as a list of tables (empty if absent), or a CatalogError."""
-        items = entry.get(key, [])
-        if not isinstance(items, list) or not all(isinstance(e, dict) for e in items):
-            self.fail(where, "must be an array of tables")
-        return items
-
-    def text(self, entry: dict, key: str, where: str, default: str | None = None) -> str:
-        value = entry.get(key, default)
-        if not isinstance(value, str) or (default is None and not value.strip()):
-            self.fail(f"{where}.{key}", "missing or not a text")
-        problem = text_problem(value, name=key in _NAME_KEYS)
-        if problem:
-            self.fail(f"{where}.{key}", problem)
-        return value
-
-    def numbers(self, entry: dict, keys: dict[str, str], units: dict, where: str,
-                required: Iterable[str] = (), zero_ok: Iterable[str] = ()) -> dict[str, float]:
-        """Convert the numeric ``keys`` present in ``entry`` to SI; check they are > 0
-        (or >= 0 for the keys in ``zero_ok``)."""
-        out = {}
-        for key, si_unit in keys.items():
-            if key not in entry:
-                if key in required:
-                    self.fail(f"{where}.{key}", "missing")
-                continue
-            value = entry[key]
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                self.fail(f"{where}.{key}", f"{quote(value)} is not a number")
-            if si_unit:
-                unit = units.get(key)
-                if not isinstance(unit, str):
-                    name = "F_tspec" if key == "load" else key
-                    self.fail(f"{where.split('.')[0]}.units.{name}", "no unit given for this key")
-                problem = _unit_problem(unit, si_unit)
-                if problem:
-                    self.fail(f"{where}.units.{key}", problem)
-                value = value * conversion_factor(unit, si_unit)
-            low_ok = value >= 0 if key in zero_ok else value > 0
-            if not (math.isfinite(value) and low_ok):
-                bound = ">= 0" if key in zero_ok else "> 0"
-                self.fail(f"{where}.{key}", f"{quote(entry[key])} must be a finite number {bound}")
-            out[key] = float(value)
-        return out
-
-    def check_keys(self, entry: dict, allowed: Iterable[str], where: str, text_keys=_TEXT_KEYS):
-        extra = set(entry) - set(allowed) - set(text_keys)
-        if extra:
-            key = sorted(extra)[0]
-            keys = [*allowed, *text_keys]
-            self.fail(f"{where}.{key}", f"unknown key; {did_you_mean(key, keys, listed=len(keys))}")
-
-    def entry_source(self, entry: dict, where: str) -> Source:
-        if "source" not in entry:
-            return self.source
-        own = self.text(entry, "source", where)
-        return Source(document=own, location=self.source.document, path=str(self.path))
-
-    def entry_units(self, entry: dict, where: str) -> dict:
-        units = entry.get("units", {})
-        if not isinstance(units, dict) or not isinstance(self.units, dict):
-            self.fail(f"{where}.units", "must be a table of unit strings")
-        return {**self.units, **units}
-
-    # --- kinds -----------------------------------------------------------------
-    def belts(self) -> list[BeltProfile]:
-        out = []
-        for i, e in enumerate(self.entries("belts")):
-            where = f"belts[{i}]"
-            self.check_keys(e, [*_BELT_KEYS, "widths", "F_tspec", "z_e_max", "z_min", "z_min_contraflexure",
-                                "stock_teeth", "open_length"], where)
-            units = self.entry_units(e, where)
-            nums = self.numbers(e, _BELT_KEYS, units, where, required=["pitch"])
-            rows = []
-            for j, row in enumerate(self.rows(e, "widths", f"{where}.widths")):
-                rw = f"{where}.widths[{j}]"
-                self.check_keys(row, _BELT_ROW_KEYS, rw, text_keys=())
-                rows.append(BeltWidth(**self.numbers(row, _BELT_ROW_KEYS, units, rw, required=["width"])))
-            widths = [r.width for r in rows]
-            if any(b <= a for a, b in zip(widths, widths[1:])):
-                self.fail(f"{where}.widths", "widths must be sorted ascending, without repeats")
-            table = []
-            for j, row in enumerate(self.rows(e, "F_tspec", f"{where}.F_tspec")):
-                rw = f"{where}.F_tspec[{j}]"
-                self.check_keys(row, _FTSPEC_KEYS, rw, text_keys=())
-                vals = self.numbers(row, _FTSPEC_KEYS, {**units, "load": units.get("F_tspec")}, rw,
-                                    required=_FTSPEC_KEYS, zero_ok=["speed"])
-                table.append((vals["speed"], vals["load"]))
-            speeds = [s for s, _ in table]
-            if any(b <= a for a, b in zip(speeds, speeds[1:])):
-                self.fail(f"{where}.F_tspec", "speeds must be sorted ascending, without repeats")
-            if table and (len(table) < 2 or speeds[0] != 0.0):
-                self.fail(f"{where}.F_tspec", f"{len(table)} row{'s' * (len(table) != 1)} from {speeds[0]:g} rad/s; the "
-                                              "table needs a row at speed 0 and at least one more (it is interpolated)")
-            ints = {}
-            for key in ("z_e_max", "z_min", "z_min_contraflexure"):
-                if key in e:
-                    if not isinstance(e[key], int) or isinstance(e[key], bool) or e[key] <= 0:
-                        self.fail(f"{where}.{key}", f"{e[key]!r} must be a whole number > 0")
-                    ints[key] = e[key]
-            stock = e.get("stock_teeth", [])
-            if not isinstance(stock, list) or not all(isinstance(t, int) and not isinstance(t, bool)
-                                                      and t > 0 for t in stock) \
-                    or any(b <= a for a, b in zip(stock, stock[1:])):
-                self.fail(f"{where}.stock_teeth", "must be a list of whole tooth counts > 0, ascending")
-            open_length = e.get("open_length", False)
-            if not isinstance(open_length, bool):
-                self.fail(f"{where}.open_length", "must be true or false")
-            out.append(BeltProfile(
-                stock_teeth=tuple(stock), open_length=open_length,
-                manufacturer=self.text(e, "manufacturer", where),
-                profile=self.text(e, "profile", where),
-                source=self.entry_source(e, where), widths=tuple(rows), F_tspec=tuple(table),
-                note=self.text(e, "note", where, ""),
-                damping_source=self.text(e, "damping_source", where, ""),
-                **nums, **ints,
-            ))
-        return out
-
-    def threads(self) -> list[Thread]:
-        out = []
-        for i, e in enumerate(self.entries("threads")):
-            where = f"threads[{i}]"
-            self.check_keys(e, _THREAD_KEYS, where)
-            nums = self.numbers(e, _THREAD_KEYS, self.entry_units(e, where), where, required=_THREAD_KEYS)
-            if nums["d2"] >= nums["d"]:
-                self.fail(f"{where}.d2", "pitch diameter must be smaller than the nominal diameter")
-            if nums["flank_angle"] >= MAX_FLANK_ANGLE:
-                self.fail(f"{where}.flank_angle", f"{math.degrees(nums['flank_angle']):g} deg is not allowed; it must "
-                                                  f"be in (0, {math.degrees(MAX_FLANK_ANGLE):g}) deg "
-                                                  "(metric threads 60 deg, trapezoidal 30 deg)")
-            out.append(Thread(name=self.text(e, "name", where), series=self.text(e, "series", where, ""),
-                              source=self.entry_source(e, where), **nums))
-        return out
-
-    def motors(self) -> list[Motor]:
-        out = []
-        for i, e in enumerate(self.entries("motors")):
-            where = f"motors[{i}]"
-            self.check_keys(e, [*_MOTOR_KEYS, "intermittent", "continuous", "zone_source"], where)
-            nums = self.numbers(e, _MOTOR_KEYS, self.entry_units(e, where), where,
-                                required=[k for k in _MOTOR_KEYS if k != "efficiency"])
-            if nums["T_max"] < nums["T_n"]:
-                self.fail(f"{where}.T_max", "peak torque is below the rated torque")
-            if nums["n_max"] < nums["n_rated"]:
-                self.fail(f"{where}.n_max", "maximum speed is below the rated speed")
-            if nums.get("efficiency", 0.5) > 1:
-                self.fail(f"{where}.efficiency", "must be <= 1")
-            zones = {key: self.zone(e, key, where, nums) for key in ("intermittent", "continuous")}
-            out.append(Motor(name=self.text(e, "name", where), series=self.text(e, "series", where, ""),
-                             source=self.entry_source(e, where), zone_source=self.text(e, "zone_source", where, ""),
-                             **zones, **nums))
-        return out
-
-    def zone(self, e: dict, key: str, where: str, motor: dict) -> tuple[tuple[float, float], ...]:
-        """A motor's torque-speed zone: ``[{ speed = .., torque = .. }, ...]`` from speed 0 to
-        n_max, speeds ascending (units ``speed``, ``torque`` in the units table)."""
-        units = {**self.entry_units(e, where)}
-        points = []
-        for j, row in enumerate(self.rows(e, key, f"{where}.{key}")):
-            rw = f"{where}.{key}[{j}]"
-            self.check_keys(row, ("speed", "torque"), rw, text_keys=())
-            vals = self.numbers(row, {"speed": "rad/s", "torque": "N*m"}, units, rw, required=("speed", "torque"),
-                                zero_ok=("speed", "torque"))
-            points.append((vals["speed"], vals["torque"]))
-        if not points:
-            return ()
-        speeds = [w for w, _ in points]
-        if len(points) < 2 or speeds[0] != 0 or any(b <= a for a, b in zip(speeds, speeds[1:])):
-            self.fail(f"{where}.{key}", "needs 2 or more points, speeds ascending from 0")
-        if speeds[-1] < motor["n_max"] * (1 - 1e-9):
-            self.fail(f"{where}.{key}", "must reach the maximum speed n_max")
-        if "zone_source" not in e:
-            self.fail(f"{where}.zone_source", "a torque-speed zone must say where it comes from")
-        return tuple(points)
-
-
-    def chains(self) -> list[Chain]:
-        out = []
-        for i, e in enumerate(self.entries("chains")):
-            where = f"chains[{i}]"
-            self.check_keys(e, [*_CHAIN_KEYS, "breaking_load", "mass", "iso", "lubrication"], where)
-            units = self.entry_units(e, where)
-            nums = self.numbers(e, _CHAIN_KEYS, units, where,
-                                required=["pitch", "roller_diameter", "inner_width", "pin_diameter"])
-            loads = e.get("breaking_load")
-            if not isinstance(loads, list) or not loads:
-                self.fail(f"{where}.breaking_load", "must be a list of breaking loads by strand count (1, 2, ...)")
-            f_b = [self.numbers({"breaking_load": v}, {"breaking_load": "N"}, units, f"{where}.breaking_load[{k}]")
-                   ["breaking_load"] for k, v in enumerate(loads)]
-            if any(b <= a for a, b in zip(f_b, f_b[1:])):
-                self.fail(f"{where}.breaking_load", "must rise with the strand count")
-            masses = e.get("mass", {})
-            if not isinstance(masses, dict) or not all(k.isdigit() and 1 <= int(k) <= len(f_b) for k in masses):
-                self.fail(f"{where}.mass", "must be a table { strands = mass } with strands 1..len(breaking_load)")
-            mass = {int(k): self.numbers({"mass": v}, {"mass": "kg/m"}, units, f"{where}.mass.{k}")["mass"]
-                    for k, v in masses.items()}
-            lub = e.get("lubrication")          # { A = v_A, B = v_B }: highest chain speed of each type
-            if lub is not None:
-                if not isinstance(lub, dict) or set(lub) != {"A", "B"}:
-                    self.fail(f"{where}.lubrication", "must be a table { A = speed, B = speed }")
-                lub = tuple(self.numbers({"lubrication": lub[k]}, {"lubrication": "m/s"}, units,
-                                         f"{where}.lubrication.{k}")["lubrication"] for k in ("A", "B"))
-                if not lub[0] < lub[1]:
-                    self.fail(f"{where}.lubrication", "Type A's highest speed must be below Type B's")
-            size = self.text(e, "name", where)
-            iso = self.text(e, "iso", where, "")
-            for k, load in enumerate(f_b, start=1):
-                out.append(Chain(name=f"{size}-{k}", size=size, series=self.text(e, "series", where, ""),
-                                 strands=k, breaking_load=load, mass=mass.get(k), iso=iso, lubrication=lub,
-                                 source=self.entry_source(e, where), **nums))
-        return out
-
-    def service_factors(self) -> list[ServiceFactors]:
-        tables = self.data.get("service_factors", {})
-        if not isinstance(tables, dict):
-            self.fail("service_factors", "must be named tables [service_factors.NAME]")
-        out = []
-        for name, t in tables.items():
-            where = f"service_factors.{name}"
-            keys = ("load_kinds", "peak_ratio_bounds", "hours_bounds", "base", "starts_bounds", "start_stop",
-                    "idler", "speed_up_bounds", "speed_up")
-            missing = [k for k in keys if k not in t]
-            if missing:
-                self.fail(f"{where}.{missing[0]}", "missing")
-            extra = set(t) - set(keys) - {"load_examples"}
-            if extra:
-                key = sorted(extra)[0]
-                self.fail(f"{where}.{key}", f"unknown key; {did_you_mean(key, [*keys, 'load_examples'], listed=99)}")
-
-            def grid(value, shape, key):
-                ok = isinstance(value, list) and len(value) == shape[0]
-                if ok and len(shape) > 1:
-                    return tuple(grid(v, shape[1:], key) for v in value)
-                if not ok or (len(shape) == 1 and not all(
-                        isinstance(x, (int, float)) and not isinstance(x, bool) and x >= 0 for x in value)):
-                    self.fail(f"{where}.{key}", f"must be a table of numbers >= 0 of shape {shape}")
-                return tuple(float(x) for x in value)
-
-            kinds = t["load_kinds"]
-            if not isinstance(kinds, list) or not all(isinstance(k, str) for k in kinds):
-                self.fail(f"{where}.load_kinds", "must be a list of names")
-            bounds = {k: grid(t[k], (len(t[k]) if isinstance(t[k], list) else -1,), k)
-                      for k in ("peak_ratio_bounds", "hours_bounds", "starts_bounds", "speed_up_bounds")}
-            n_peak, n_hours = len(bounds["peak_ratio_bounds"]) + 1, len(bounds["hours_bounds"]) + 1
-            idler = t["idler"]
-            if not isinstance(idler, dict) or not all(isinstance(v, (int, float)) for v in idler.values()):
-                self.fail(f"{where}.idler", "must be a table { position = added factor }")
-            out.append(ServiceFactors(
-                name=name, source=self.source, load_kinds=tuple(kinds),
-                base=grid(t["base"], (len(kinds), n_peak, n_hours), "base"),
-                start_stop=grid(t["start_stop"], (n_peak, len(bounds["starts_bounds"]) + 1), "start_stop"),
-                speed_up=grid(t["speed_up"], (len(bounds["speed_up_bounds"]) + 1,), "speed_up"),
-                idler={k: float(v) for k, v in idler.items()}, **bounds))
-        return out
+    def factors(self, name: str, t: dict, where: str) -> ServiceFactors:
+        """A service-factor table, its grids of the shapes its class limits give."""
+        n_peak, n_hours = len(t["peak_ratio_bounds"]) + 1, len(t["hours_bounds"]) + 1
+        for key, shape in (("base", (len(t["load_kinds"]), n_peak, n_hours)),
+                           ("start_stop", (n_peak, len(t["starts_bounds"]) + 1)),
+                           ("speed_up", (len(t["speed_up_bounds"]) + 1,))):
+            at, why = _shape_problem(t[key], shape, f"{where}.{key}")
+            if why:
+                self.fail(at, why)
+        t.pop("load_examples", None)
+        return ServiceFactors(name=name, source=self.source, **{k: tuple(v) if isinstance(v, list) else v
+                                                                 for k, v in t.items()})
 
 
 @dataclass
@@ -618,9 +423,9 @@ class Catalog:
     files: list[str] = field(default_factory=list)
 
     def add_file(self, path: Path) -> None:
-        reader = CatalogReader(path)
-        for kind, items in (("belts", reader.belts()), ("threads", reader.threads()),
-                            ("motors", reader.motors()), ("chains", reader.chains())):
+        reader = CatalogFile(path)
+        for kind, items in (("belts", reader.belts), ("threads", reader.threads),
+                            ("motors", reader.motors), ("chains", reader.chains)):
             for item in items:
                 key = item.name.lower()
                 for other in (self.belts, self.threads, self.motors, self.chains):
@@ -628,7 +433,7 @@ class Catalog:
                         raise CatalogError(f"{shown_path(path)}: {kind}: duplicate name {item.name!r} "
                                            f"(already in {other[key].source.path})")
                 getattr(self, kind)[key] = item
-        for table in reader.service_factors():
+        for table in reader.service_factors:
             if table.name in self.service_factors:
                 raise CatalogError(f"{shown_path(path)}: service_factors: duplicate name {quote(table.name)}")
             self.service_factors[table.name] = table
@@ -719,9 +524,10 @@ CACHE_ENV = "BELTCALC_CACHE"     # a folder for the parsed built-in catalogs; "o
 def _cache_file(files: list[Path]) -> Path | None:
     """Where the parsed built-in catalogs are kept: the user's cache folder (``$XDG_CACHE_HOME``
     or ``~/.cache``, then ``beltcalc``; ``$BELTCALC_CACHE`` instead, ``off`` for none), in a
-    file named by the SHA-256 of every catalog file's bytes and of the code that reads them
-    (this module and :mod:`beltcalc.units`) and of the folder they are in (entries name their
-    file): any edit or another checkout is a new name, never a stale read."""
+    file named by the SHA-256 of every catalog file's bytes, of the code that reads them
+    (this module, :mod:`beltcalc.schema`, :mod:`beltcalc.tomlsafe`, :mod:`beltcalc.units`) and
+    of the folder they are in (entries name their file): any edit or another checkout is a
+    new name, never a stale read."""
     import hashlib
 
     folder = os.environ.get(CACHE_ENV)
@@ -732,7 +538,8 @@ def _cache_file(files: list[Path]) -> Path | None:
         folder = os.path.join(base, "beltcalc")
     where = hashlib.sha256(str(builtin_dir().resolve()).encode()).hexdigest()[:12]   # entries name their file
     digest = hashlib.sha256()
-    for path in [*files, Path(__file__), Path(__file__).with_name("units.py")]:
+    code = [Path(__file__).with_name(name) for name in ("catalogs.py", "schema.py", "tomlsafe.py", "units.py")]
+    for path in [*files, *code]:
         digest.update(str(path.name).encode() + b"\0")
         try:
             digest.update(path.read_bytes())
@@ -779,78 +586,3 @@ def _builtin_catalog() -> Catalog:
         except OSError:
             pass
     return catalog
-
-
-@dataclass(frozen=True)
-class SceneFile:
-    """A ready parameter set (``catalogs/scenes/*.toml``): values as text with units, each
-    with the reason it has that value. The command that uses it converts the values."""
-
-    name: str
-    title: str
-    command: str
-    source: Source
-    values: dict[str, tuple[str, str]]  # name -> (value text, why)
-
-
-def scene_names(command: str | None = None) -> list[str]:
-    """Names of the built-in scenes (for ``command`` only, if given)."""
-    folder = builtin_dir() / "scenes"
-    names = []
-    for path in sorted(folder.glob("*.toml")):
-        if command is None or load_scene(str(path)).command == command:
-            names.append(path.stem)
-    return names
-
-
-def load_scene(ref: str, command: str | None = None) -> SceneFile:
-    """A built-in scene by name (``wdu``) or a scene file by path.
-
-    Every parameter is a table ``name = { value = "50 kg", why = "..." }``. A scene may
-    name a ``base`` scene in its ``[scene]`` table: it inherits the base's parameters and
-    overrides those it gives itself.
-
-    >>> load_scene("wdu").values["mass"][0]
-    '50 kg'
-    """
-    path = Path(ref)
-
-    def exists(p: Path) -> bool:
-        try:
-            return p.exists()
-        except (OSError, ValueError):      # a name too long, a NUL character
-            return False
-    if not (path.suffix == ".toml" or exists(path)):
-        path = builtin_dir() / "scenes" / f"{ref}.toml"
-        if not exists(path):
-            known = scene_names(command)
-            hint = did_you_mean(ref, known, listed=0) if len(ref) <= MAX_NAME else ""
-            hint = f"; {hint}" if hint else ""
-            raise UnknownNameError(f"unknown scene {quote(ref)}{hint} (built-in: {', '.join(known)}; "
-                                   "or give a .toml path)", param="scene")
-    reader = CatalogReader(path, allowed=("source", "scene", "parameters"))
-    data = reader.data
-    head = data.get("scene")
-    if not isinstance(head, dict) or not isinstance(head.get("command"), str):
-        reader.fail("scene.command", "a scene needs [scene] with 'title' and 'command'")
-    if command is not None and head["command"] != command:
-        reader.fail("scene.command", f"this scene is for `beltcalc {head['command']}`, not `{command}`")
-    values = {}
-    params = data.get("parameters")
-    if not isinstance(params, dict):
-        reader.fail("parameters", "a scene needs a [parameters] table")
-    for key, item in params.items():
-        if not isinstance(item, dict) or not isinstance(item.get("value"), (str, int, float)) \
-                or isinstance(item.get("value"), bool):
-            reader.fail(f"parameters.{key}", "must be { value = \"<quantity or name>\", why = \"...\" }")
-        why = item.get("why", "")
-        if not isinstance(why, str) or not why.strip():
-            reader.fail(f"parameters.{key}.why", "every scene value must say why it has that value")
-        values[key] = (str(item["value"]), why)
-    base = head.get("base")
-    if base is not None:
-        if not isinstance(base, str) or base == path.stem:
-            reader.fail("scene.base", "must name another scene")
-        values = {**load_scene(base).values, **values}
-    return SceneFile(name=path.stem, title=str(head.get("title", path.stem)), command=head["command"],
-                 source=reader.source, values=values)

@@ -35,16 +35,36 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from beltcalc.catalogs import read_toml
-from beltcalc.errors import CatalogError, did_you_mean
+from beltcalc.catalogs import SOURCE
+from beltcalc.schema import (QUANTITIES, Choice, Context, Entries, FieldError, Quantity, Record, Section, Text,
+                             TomlFile)
 from beltcalc.sizing import MoveSpec
-from beltcalc.units import QuantityError, parse_quantity, parse_quantity_any
 
 MAX_SEGMENTS = 10000
-_SEGMENT_KEYS = {"kind", "name", "distance", "direction", "time", "speed", "accel", "jerk", "accel_fraction",
-                 "jerk_fraction", "payload", "force"}
-_CYCLE_KEYS = {"title", "speed", "accel", "jerk", "note"}
-_ALTERNATIVES = {"speed": ("rad/s", "m/s"), "accel": ("rad/s^2", "m/s^2"), "jerk": ("rad/s^3", "m/s^3")}
+LIMITS = {   # a move's limits, at the motor (rotation) or at the carriage: read as (value, unit)
+    "speed": Quantity("rad/s|m/s", keep_unit=True, help="speed limit: at the motor (rpm, rad/s) or the carriage (m/s)"),
+    "accel": Quantity("rad/s^2|m/s^2", keep_unit=True, help="acceleration limit, at the motor or the carriage"),
+    "jerk": Quantity("rad/s^3|m/s^3", keep_unit=True, help="jerk limit (an S-curve), at the motor or the carriage"),
+}
+SEGMENT = Record({
+    "kind": Choice(choices=("move", "dwell"), required=True, help='"move" or "dwell"'),
+    "name": Text(help="what the segment does"),
+    "direction": Choice(choices=("+", "-"), help="+ or - along the axis (+ is up on a vertical axis)"),
+    "distance": Quantity("m", help="a move's carriage travel"),
+    "time": Quantity("s", help="a dwell's time, or a move's instead of its limits"),
+    "payload": Quantity("kg", help="carried on top of the carriage mass"),
+    "force": Quantity("N", help="a move's process force against the motion; a dwell's force towards -"),
+    "accel_fraction": Quantity("", help="T_a / T of a move by time"),
+    "jerk_fraction": Quantity("", help="T_j / T_a of a move by time"),
+    **LIMITS,
+})
+CYCLE = Record({"title": Text(numbers=True, help="the cycle's title"), **LIMITS, "note": Text(help="a remark")})
+CYCLE_FILE = Record({
+    "cycle": Section(record=CYCLE, help="the title, and the limits of every move that gives none"),
+    "segment": Entries(record=SEGMENT, required=True, least=1, most=MAX_SEGMENTS,
+                       help="a cycle needs one or more [[segment]] tables"),
+    "source": Section(record=SOURCE, help="where the cycle comes from"),
+})
 
 
 @dataclass(frozen=True)
@@ -63,90 +83,38 @@ def load_cycle(path: str | Path) -> CycleFile:
     (['move', 'dwell', 'move'], -1)
     """
     path = Path(path)
-    data = read_toml(path, "cycle file")    # bounded size and depth: 5,000 levels is one line
-
-    def fail(key: str, message: str):
-        raise CatalogError(f"{path}: {key}: {message}")
-
-    extra = set(data) - {"cycle", "segment", "source"}
-    if extra:
-        key = sorted(extra)[0]
-        fail(key, f"unknown top-level key; {did_you_mean(key, ('cycle', 'segment', 'source'))}")
-    head = data.get("cycle", {})
-    if not isinstance(head, dict):
-        fail("cycle", "must be a table")
-    extra = set(head) - _CYCLE_KEYS
-    if extra:
-        fail(f"cycle.{sorted(extra)[0]}", f"unknown key; {did_you_mean(sorted(extra)[0], sorted(_CYCLE_KEYS))}")
-    segs = data.get("segment")
-    if not isinstance(segs, list) or not segs or not all(isinstance(s, dict) for s in segs):
-        fail("segment", "a cycle needs one or more [[segment]] tables")
-    if len(segs) > MAX_SEGMENTS:
-        fail("segment", f"{len(segs)} segments; at most {MAX_SEGMENTS}")
-
-    def quantity(entry: dict, key: str, where: str, unit: str):
-        return _quantity(entry, key, unit, lambda k, m: fail(f"{where}.{k}", m))
-
-    defaults = {k: quantity(head, k, "cycle", "") for k in ("speed", "accel", "jerk") if k in head}
+    file = TomlFile(path, CYCLE_FILE, QUANTITIES, "cycle file")   # bounded size and depth: 5,000 levels is one line
+    head = file.values.get("cycle", {})
+    defaults = {k: v for k, v in head.items() if k in LIMITS}
     out = []
-    for n, e in enumerate(segs):
-        where = f"segment[{n}]"
-        out.append(_segment(e, lambda key, message, where=where: fail(f"{where}.{key}", message),
-                            lambda entry, key, unit, where=where: quantity(entry, key, where, unit), defaults))
-    title = head.get("title", path.stem)
-    return CycleFile(title=str(title), path=str(path), segments=tuple(out))
+    for n, values in enumerate(file.values["segment"]):
+        try:
+            out.append(move_spec(values, defaults))
+        except FieldError as exc:
+            file.fail(f"segment[{n}].{exc.at}", exc.message)
+    return CycleFile(title=head.get("title", path.stem), path=str(path), segments=tuple(out))
 
 
-def _quantity(entry: dict, key: str, unit: str, fail):
-    """``entry[key]`` in SI (``(value, unit)`` for speed, accel and jerk); ``fail(key, message)``."""
-    text = entry[key]
-    if isinstance(text, bool) or not isinstance(text, (str, int, float)):
-        fail(key, f"{text!r} is not a quantity")
-    try:
-        if key in _ALTERNATIVES:
-            return parse_quantity_any(text, _ALTERNATIVES[key])
-        return parse_quantity(text, unit)
-    except QuantityError as exc:
-        fail(key, str(exc))
-
-
-def _segment(e: dict, fail, quantity, defaults: dict) -> MoveSpec:
-    """One segment (a file's ``[[segment]]`` table or the keys of :func:`parse_segments`) as a
-    :class:`~beltcalc.sizing.MoveSpec`; ``fail(key, message)`` raises, ``quantity(entry, key,
-    unit)`` reads a value; ``defaults``: speed, accel, jerk of the moves that give none."""
-    extra = set(e) - _SEGMENT_KEYS
-    if extra:
-        fail(sorted(extra)[0], f"unknown key; {did_you_mean(sorted(extra)[0], sorted(_SEGMENT_KEYS), listed=99)}")
-    kind = e.get("kind")
-    if kind not in ("move", "dwell"):
-        fail("kind", f"{kind!r}; use \"move\" or \"dwell\"")
-    name = e.get("name", "")
-    if not isinstance(name, str):
-        fail("name", "must be a text")
-    direction = e.get("direction", "+")
-    if direction not in ("+", "-"):
-        fail("direction", f"{direction!r}; use \"+\" or \"-\"")
-    values = {}
-    for key, unit in (("distance", "m"), ("time", "s"), ("payload", "kg"), ("force", "N"),
-                      ("accel_fraction", ""), ("jerk_fraction", ""), ("speed", ""), ("accel", ""),
-                      ("jerk", "")):
-        if key in e:
-            values[key] = quantity(e, key, unit)
+def move_spec(values: dict, defaults: dict) -> MoveSpec:
+    """A segment's values (as :data:`SEGMENT` reads them) as a :class:`~beltcalc.sizing.MoveSpec`,
+    or a :class:`~beltcalc.schema.FieldError` at the key a move or a dwell may not have or
+    needs; ``defaults``: speed, accel, jerk of the moves that give none."""
+    values = dict(values)
+    kind, name, direction = values.pop("kind"), values.pop("name", ""), values.pop("direction", "+")
     if kind == "dwell":
         bad = set(values) - {"time", "payload", "force"}
         if bad:
-            fail(sorted(bad)[0], "not a key of a dwell (a dwell has time, payload, force)")
+            raise FieldError("not a key of a dwell (a dwell has time, payload, force)", sorted(bad)[0])
         if "time" not in values:
-            fail("time", "missing: a dwell needs its time")
+            raise FieldError("missing: a dwell needs its time", "time")
     else:
         if "distance" not in values:
-            fail("distance", "missing: a move needs its distance")
+            raise FieldError("missing: a move needs its distance", "distance")
         if "time" in values and ({"speed", "accel", "jerk"} & set(values)):
-            fail("time", "give a move either time or speed/accel/jerk, not both")
+            raise FieldError("give a move either time or speed/accel/jerk, not both", "time")
         if "time" not in values:
-            for key in ("speed", "accel"):
+            for key in LIMITS:
                 values.setdefault(key, defaults.get(key))
-            values.setdefault("jerk", defaults.get("jerk"))
     return MoveSpec(kind=kind, name=name, direction=1 if direction == "+" else -1, **values)
 
 
@@ -164,7 +132,7 @@ def parse_segments(texts, what: str = "segment") -> tuple[MoveSpec, ...]:
     [('move', 0.4, -1, 0.0), ('dwell', 0.0, 1, 0.0), ('move', 0.4, 1, 10.0)]
     """
     from beltcalc.errors import UsageError
-    from beltcalc.units import quote
+    from beltcalc.tomlsafe import quote
 
     texts = list(texts)
     if len(texts) > MAX_SEGMENTS:
@@ -186,5 +154,8 @@ def parse_segments(texts, what: str = "segment") -> tuple[MoveSpec, ...]:
             if key in entry:
                 fail(key, "given twice")
             entry[key] = value.strip()
-        out.append(_segment(entry, fail, lambda e, key, unit, fail=fail: _quantity(e, key, unit, fail), {}))
+        try:
+            out.append(move_spec(SEGMENT.read(entry, Context(QUANTITIES)), {}))
+        except FieldError as exc:
+            fail(exc.at, exc.message)
     return tuple(out)

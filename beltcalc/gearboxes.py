@@ -29,13 +29,24 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Iterable
 
-from beltcalc.catalogs import CatalogReader, builtin_dir
+from beltcalc.catalogs import ENTRY_TEXTS, SOURCE, builtin_dir, file_source
 from beltcalc.dutycycle import Gearbox
 from beltcalc.errors import UnknownNameError, did_you_mean
+from beltcalc.schema import Entries, Quantity, Record, Section, Text, TomlFile
 from beltcalc.units import quote
 
-_KEYS = {"ratio": "", "J": "kg*m^2", "efficiency": "", "efficiency_back": "", "n_max_in": "rad/s",
-         "T_rated_out": "N*m", "T_peak_out": "N*m"}
+GEARBOX = Record({
+    "name": Text(name=True, required=True, help="e.g. PL60-10"), "series": Text(name=True, help="the series"),
+    "ratio": Quantity("", help="ratio, input speed / output speed", required=True, low=">0"),
+    "J": Quantity("kg*m^2", help="inertia at the input", required=True, low=">=0"),
+    "efficiency": Quantity("", help="efficiency, the motor driving", required=True, low=">0", high=1.0),
+    "efficiency_back": Quantity("", help="efficiency, the load driving", low=">0", high=1.0),
+    "n_max_in": Quantity("rad/s", help="maximum input speed", low=">0"),
+    "T_rated_out": Quantity("N*m", help="rated (continuous) output torque", low=">0"),
+    "T_peak_out": Quantity("N*m", help="peak output torque", low=">0"), **ENTRY_TEXTS,
+}, units=True)
+GEARBOX_FILE = Record({"source": Section(record=SOURCE, required=True, help="[source] with a document"),
+                       "gearboxes": Entries(record=GEARBOX)}, units=True)
 
 
 def load_gearboxes(extra: Iterable[str | Path] = ()) -> dict[str, Gearbox]:
@@ -45,23 +56,17 @@ def load_gearboxes(extra: Iterable[str | Path] = ()) -> dict[str, Gearbox]:
     paths = sorted(folder.glob("*.toml")) if folder.is_dir() else []
     out: dict[str, Gearbox] = {}
     for path in [*paths, *map(Path, extra)]:
-        reader = CatalogReader(Path(path), allowed=("source", "units", "gearboxes"))
-        for i, e in enumerate(reader.entries("gearboxes")):
-            where = f"gearboxes[{i}]"
-            reader.check_keys(e, _KEYS, where)
-            nums = reader.numbers(e, _KEYS, reader.entry_units(e, where), where,
-                                  required=("ratio", "J", "efficiency"), zero_ok=("J",))
-            for key in ("efficiency", "efficiency_back"):
-                if nums.get(key, 0.5) > 1:
-                    reader.fail(f"{where}.{key}", "must be <= 1")
-            name = reader.text(e, "name", where)
+        file = TomlFile(Path(path), GEARBOX_FILE)
+        source = file_source(file)
+        for i, e in enumerate(file.values.get("gearboxes", [])):
+            name = e["name"]
             if name.lower() in out:
-                reader.fail(f"{where}.name", f"duplicate gearbox name {name!r}")
+                file.fail(f"gearboxes[{i}].name", f"duplicate gearbox name {name!r}")
             out[name.lower()] = Gearbox(
-                ratio=nums["ratio"], inertia=nums["J"], efficiency=nums["efficiency"],
-                efficiency_back=nums.get("efficiency_back"), max_input_speed=nums.get("n_max_in"),
-                rated_torque=nums.get("T_rated_out"), peak_torque=nums.get("T_peak_out"), name=name,
-                source=str(reader.entry_source(e, where)))
+                ratio=e["ratio"], inertia=e["J"], efficiency=e["efficiency"],
+                efficiency_back=e.get("efficiency_back"), max_input_speed=e.get("n_max_in"),
+                rated_torque=e.get("T_rated_out"), peak_torque=e.get("T_peak_out"), name=name,
+                source=str(source.within(e.get("source"))))
     return out
 
 

@@ -3,7 +3,7 @@
 
 A :class:`Param` says what a value is (an SI quantity, a whole number, a text, or one of
 several dimensions). :func:`resolve` takes each value from what the caller gives, else from
-the scene file (``catalogs/scenes/*.toml``, read by :func:`beltcalc.catalogs.load_scene`),
+the scene file (``catalogs/scenes/*.toml``, read by :func:`beltcalc.scenefile.load_scene`),
 converted to SI once, and says where it came from. :func:`parse_assignments` and
 :func:`sweep_points` read the texts a user types; what they cannot read is a
 :class:`~beltcalc.errors.UsageError` naming the input (``set``, ``sweep``).

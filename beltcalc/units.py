@@ -16,6 +16,8 @@ from functools import lru_cache
 
 import pint
 
+from beltcalc.tomlsafe import quote
+
 _REGISTRY: pint.UnitRegistry | None = None
 
 
@@ -37,20 +39,6 @@ class QuantityError(ValueError):
 
 MAX_TEXT = 200        # characters of a quantity text; longer is refused before pint sees it
 MAX_POWER = 12        # largest unit power (``m^2``, ``s^-3``); a larger one is no unit of ours
-_QUOTE = 40
-
-
-def quote(text, limit: int = _QUOTE) -> str:
-    """``repr(text)``, cut to its first ``limit`` characters for a message (control and
-    direction characters escaped by ``repr``).
-
-    >>> quote("50 kg"), quote("9" * 400)
-    ("'50 kg'", "'9999999999999999999999999999999999999999'... (400 characters)")
-    """
-    text = str(text)
-    if len(text) <= limit:
-        return repr(text)
-    return f"{text[:limit]!r}... ({len(text)} characters)"
 
 
 @lru_cache(maxsize=None)

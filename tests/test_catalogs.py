@@ -278,6 +278,29 @@ MALFORMED = [
                  "threads[0].d2", id="thread-d2-over-d"),
     pytest.param(SOURCE + motor(name="Mo-1", T_n=2.0, T_max=1.0), "motors[0].T_max",
                  id="motor-peak-below-rated"),
+    # read by the schema (beltcalc/schema.py): each kind's own keys, the place of a list's item
+    pytest.param(SOURCE + '[[threads]]\nname = "Mx"\nmanufacturer = "Acme"\nd = 10\nP = 1\nd2 = 9\nflank_angle = 60\n'
+                          'units = { d = "mm", P = "mm", d2 = "mm", flank_angle = "deg" }\n',
+                 "threads[0].manufacturer: unknown key", id="key-of-another-kind"),
+    pytest.param(SOURCE + belt(body='source = ""\n' + BELT_UNITS + GOOD_ROWS), "belts[0].source: must not be empty",
+                 id="empty-entry-source"),
+    pytest.param(SOURCE + belt(body=BELT_UNITS + 'stock_teeth = [60, 50]\n' + GOOD_ROWS),
+                 "belts[0].stock_teeth[1]: must rise", id="stock-teeth-unsorted"),
+    pytest.param(SOURCE + '[[chains]]\nname = "Q1"\npitch = 12.7\nroller_diameter = 8.5\ninner_width = 7.7\n'
+                          'pin_diameter = 4.4\nbreaking_load = [10, 20]\nmass = { 3 = 1.0 }\nlubrication = { A = 1 }\n'
+                          'units = { pitch = "mm", roller_diameter = "mm", inner_width = "mm", pin_diameter = "mm", '
+                          'breaking_load = "kN", mass = "kg/m", lubrication = "m/s" }\n',
+                 "chains[0].lubrication.B: missing", id="chain-lubrication-without-B"),
+    pytest.param(SOURCE + '[[chains]]\nname = "Q1"\npitch = 12.7\nroller_diameter = 8.5\ninner_width = 7.7\n'
+                          'pin_diameter = 4.4\nbreaking_load = [10, 20]\nmass = { 3 = 1.0 }\n'
+                          'units = { pitch = "mm", roller_diameter = "mm", inner_width = "mm", pin_diameter = "mm", '
+                          'breaking_load = "kN", mass = "kg/m" }\n',
+                 "chains[0].mass.3: not a strand count; the keys are strand counts 1..2", id="chain-mass-strands"),
+    pytest.param(SOURCE + '[[chains]]\nname = "Q1"\npitch = 12.7\nroller_diameter = 8.5\ninner_width = 7.7\n'
+                          'pin_diameter = 4.4\nbreaking_load = [10, -20]\n'
+                          'units = { pitch = "mm", roller_diameter = "mm", inner_width = "mm", pin_diameter = "mm", '
+                          'breaking_load = "kN" }\n',
+                 "chains[0].breaking_load[1]: -20 kN is not allowed; it must be > 0 kN", id="chain-load-negative"),
 ]
 
 
@@ -362,3 +385,19 @@ def test_belt_entry_source_is_used(tmp_path):
 def test_errors_are_beltcalc_errors():
     assert issubclass(CatalogError, BeltcalcError)
     assert issubclass(UnknownNameError, KeyError)
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ("[[1.2, 1.3, 1.4], ", "[[1.2, 1.3], ", "service_factors.mine.base[0][0]: 2 values; the table's shape is (3,)"),
+    ("speed_up = [0.0, ", "speed_up = [", "service_factors.mine.speed_up: 4 values; the table's shape is (5,)"),
+    ("speed_up = [0.0, ", "speed_up = [-1, ", "service_factors.mine.speed_up[0]: -1 is not allowed; it must be >= 0"),
+    ('load_kinds = [', 'load_kinds = [3, ', "service_factors.mine.load_kinds[0]: must be a text, not 3"),
+])
+def test_malformed_service_factor_table_names_the_cell(old, new, key, tmp_path):
+    text = (builtin_dir() / "belts" / "service_factors.toml").read_text().replace("synchronous_belt", "mine")
+    assert old in text
+    path = tmp_path / "factors.toml"
+    path.write_text(text.replace(old, new, 1))
+    with pytest.raises(CatalogError) as info:
+        load_catalog([path])
+    assert str(info.value) == f"{path}: {key}"

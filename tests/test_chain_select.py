@@ -11,7 +11,8 @@ from hypothesis import given, settings, strategies as st
 
 from beltcalc import chain as cm
 from beltcalc import chain_select as cs
-from beltcalc.catalogs import load_catalog, load_scene
+from beltcalc.catalogs import load_catalog
+from beltcalc.scenefile import load_scene
 from beltcalc.cli.main import cli
 from beltcalc.errors import InputError
 from beltcalc.units import parse_quantity

@@ -313,7 +313,8 @@ def test_assumed_zone_end_and_where_the_margin_is_smallest():
 
 def sized(*catalogs: str, motor: str | None = None):
     """The CycleSizing motor-size reports for the WDU scene with these catalog files (and --motor)."""
-    from beltcalc.catalogs import load_catalog, load_scene
+    from beltcalc.catalogs import load_catalog
+    from beltcalc.scenefile import load_scene
     from beltcalc.params import resolve
     from beltcalc.sizing import PARAMS, DutyOptions, SizingInputs, size_cycle
 

@@ -713,7 +713,7 @@ def _scene_params(scene: str):
 
 
 def _scene_values(scene_file: str) -> dict[str, str]:
-    from beltcalc.catalogs import load_scene
+    from beltcalc.scenefile import load_scene
 
     return {name: text for name, (text, _why) in load_scene(scene_file).values.items()}
 

@@ -115,8 +115,9 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
     the gearbox's efficiency and ratings, the motor's torque-speed zone, and the braking
     resistor (--dc-bus-capacitance with the two voltages).
     """
-    from beltcalc.catalogs import load_catalog, load_scene
+    from beltcalc.catalogs import load_catalog
     from beltcalc.params import resolve
+    from beltcalc.scenefile import load_scene
     from beltcalc.sizing import DutyOptions, SizingInputs, size_axis, size_cycle, sweep
 
     spec = _sweep_spec(sweep_text)
@@ -227,8 +228,9 @@ def _no_scene(given, replaced):
     """``--scene none``: a scene without values; every value the run uses must be an option,
     all the missing ones named in one message (those a cycle, a move time or a catalog
     gearbox replaces stand in as unused)."""
-    from beltcalc.catalogs import SceneFile, Source
+    from beltcalc.catalogs import Source
     from beltcalc.cli.main import option_name
+    from beltcalc.scenefile import SceneFile
 
     missing = [option_name(p.name) for p in PARAMS
                if p.required and given.get(p.name) is None and p.name not in replaced]

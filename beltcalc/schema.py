@@ -65,16 +65,18 @@ class Notation:
     ``units_table``: a TOML number, its unit in the ``units`` table of its entry or of the
     file (catalogs). Otherwise a text with its unit (``"250 mm"``), where ``bare_si``
     takes a bare number of a dimension as SI (else it is refused: the file writes the unit)
-    and ``plain_text`` lets a plain number be a text too (``"0.3"``)."""
+    and ``plain_text`` lets a plain number be a text too (``"0.3"``). ``docs``: the page
+    that describes the notation, named where a value is refused for it."""
 
     units_table: bool = False
     bare_si: bool = False
     plain_text: bool = False
+    docs: str = ""
 
 
 CATALOG = Notation(units_table=True)
-TEXTS = Notation()
-SI_TEXTS = Notation(bare_si=True)
+TEXTS = Notation(docs="docs/drive_files.md")
+SI_TEXTS = Notation(bare_si=True, docs="docs/drive_files.md")
 QUANTITIES = Notation(bare_si=True, plain_text=True)
 
 
@@ -218,8 +220,9 @@ class Quantity(Field):
             raise FieldError(f"must be a quantity text such as '5 {example_unit(unit.split('|')[0])}', "
                              f"not {shown(raw)}" if not plain else f"must be a number, not {shown(raw)}", at)
         if isinstance(raw, str) and plain and not notation.plain_text:
+            docs = f", {notation.docs}" if notation.docs else ""
             raise FieldError(f"must be a plain number, not the text {raw!r}: write it without quotes "
-                             "(ratios, factors and slips are numbers)", at)
+                             f"(ratios, factors and slips are numbers{docs})", at)
         if not isinstance(raw, str) and not plain:
             if notation.bare_si:
                 value = float(raw)

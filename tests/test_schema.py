@@ -79,7 +79,7 @@ def test_text_quantities():
     (Quantity("m"), [1], "must be a quantity text such as '5 mm', not [1]"),
     (Quantity(""), True, "must be a number, not True"),
     (Quantity(""), "0.5", "must be a plain number, not the text '0.5': write it without quotes "
-                          "(ratios, factors and slips are numbers)"),
+                          "(ratios, factors and slips are numbers, docs/drive_files.md)"),
     (Quantity("m"), "5 kg", "'5 kg' is a mass, not a length; give e.g. '5 mm'"),
     (Quantity("m", low=">=0"), "-1 m", "-1 m is not allowed; it must be >= 0 m"),
     (Quantity("", low="!=0", hint="negative: the pair turns the other way"), 0,

@@ -241,6 +241,12 @@ def motor(name: str, T_n: float, T_max: float) -> str:
             'n_rated = 3000\nn_max = 6000\n'
             'units = { P = "W", T_n = "N*m", T_max = "N*m", J = "kg*cm^2", n_rated = "rpm", n_max = "rpm" }\n')
 
+def chain(extra: str = "", loads: str = "[10, 20]") -> str:
+    return ('[[chains]]\nname = "Q1"\npitch = 12.7\nroller_diameter = 8.5\ninner_width = 7.7\npin_diameter = 4.4\n'
+            f'breaking_load = {loads}\n{extra}units = {{ pitch = "mm", roller_diameter = "mm", inner_width = "mm", '
+            'pin_diameter = "mm", breaking_load = "kN", mass = "kg/m", lubrication = "m/s" }\n')
+
+
 # (file text, the key the message must name)
 MALFORMED = [
     pytest.param(SOURCE + belt(body="pitch_again = = 3\n"), "line 7", id="invalid-toml"),
@@ -286,20 +292,11 @@ MALFORMED = [
                  id="empty-entry-source"),
     pytest.param(SOURCE + belt(body=BELT_UNITS + 'stock_teeth = [60, 50]\n' + GOOD_ROWS),
                  "belts[0].stock_teeth[1]: must rise", id="stock-teeth-unsorted"),
-    pytest.param(SOURCE + '[[chains]]\nname = "Q1"\npitch = 12.7\nroller_diameter = 8.5\ninner_width = 7.7\n'
-                          'pin_diameter = 4.4\nbreaking_load = [10, 20]\nmass = { 3 = 1.0 }\nlubrication = { A = 1 }\n'
-                          'units = { pitch = "mm", roller_diameter = "mm", inner_width = "mm", pin_diameter = "mm", '
-                          'breaking_load = "kN", mass = "kg/m", lubrication = "m/s" }\n',
+    pytest.param(SOURCE + chain('mass = { 3 = 1.0 }\nlubrication = { A = 1 }\n'),
                  "chains[0].lubrication.B: missing", id="chain-lubrication-without-B"),
-    pytest.param(SOURCE + '[[chains]]\nname = "Q1"\npitch = 12.7\nroller_diameter = 8.5\ninner_width = 7.7\n'
-                          'pin_diameter = 4.4\nbreaking_load = [10, 20]\nmass = { 3 = 1.0 }\n'
-                          'units = { pitch = "mm", roller_diameter = "mm", inner_width = "mm", pin_diameter = "mm", '
-                          'breaking_load = "kN", mass = "kg/m" }\n',
+    pytest.param(SOURCE + chain('mass = { 3 = 1.0 }\n'),
                  "chains[0].mass.3: not a strand count; the keys are strand counts 1..2", id="chain-mass-strands"),
-    pytest.param(SOURCE + '[[chains]]\nname = "Q1"\npitch = 12.7\nroller_diameter = 8.5\ninner_width = 7.7\n'
-                          'pin_diameter = 4.4\nbreaking_load = [10, -20]\n'
-                          'units = { pitch = "mm", roller_diameter = "mm", inner_width = "mm", pin_diameter = "mm", '
-                          'breaking_load = "kN" }\n',
+    pytest.param(SOURCE + chain(loads="[10, -20]"),
                  "chains[0].breaking_load[1]: -20 kN is not allowed; it must be > 0 kN", id="chain-load-negative"),
 ]
 

@@ -58,7 +58,7 @@ class FieldError(ValueError):
         self.at = at
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Notation:
     """How a file writes a quantity.
 
@@ -80,7 +80,7 @@ SI_TEXTS = Notation(bare_si=True, docs="docs/drive_files.md")
 QUANTITIES = Notation(bare_si=True, plain_text=True)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Context:
     """What a value is read in: the file's :class:`Notation`, and (catalogs) the units table
     in force, which stands in the table at ``units_at``."""
@@ -115,7 +115,7 @@ def _is_number(raw) -> bool:
 
 
 # --- fields --------------------------------------------------------------------------------------
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, eq=False)
 class Field:
     """A key of a table: its ``help`` (what the value is), whether it is ``required``, its
     ``default`` (None: absent), and ``when`` (required when that other key is given).
@@ -142,7 +142,7 @@ class Field:
 _BOUNDS = {">0": lambda v: v > 0, ">=0": lambda v: v >= 0, "!=0": lambda v: v != 0}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Quantity(Field):
     """A number with an SI ``unit`` (``""``: a plain number; ``"a|b"``: of either dimension,
     read as ``(value, unit)`` when ``keep_unit``), within ``low`` (``">0"``, ``">=0"``,
@@ -242,7 +242,7 @@ class Quantity(Field):
             raise FieldError(str(exc), at) from None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Whole(Field):
     """A whole number (a TOML integer), within ``low`` as :class:`Quantity`'s."""
 
@@ -256,7 +256,7 @@ class Whole(Field):
         return raw
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Flag(Field):
     """``true`` or ``false``."""
 
@@ -268,7 +268,7 @@ class Flag(Field):
         return raw
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Text(Field):
     """A text: printable (newlines and tabs allowed); a ``name`` is one printable line
     (:func:`~beltcalc.tomlsafe.text_problem`). A required text, and one that is ``filled``,
@@ -291,7 +291,7 @@ class Text(Field):
         return raw
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Choice(Field):
     """One of the texts ``choices``."""
 
@@ -303,7 +303,7 @@ class Choice(Field):
         return raw
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Names(Field):
     """A list of names (each as :class:`Text` ``name=True`` reads it), as many as one of
     ``count`` (empty: any number)."""
@@ -319,7 +319,7 @@ class Names(Field):
         return [name.read(v, ctx, f"{at}[{i}]", key) for i, v in enumerate(raw)]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class List(Field):
     """A list of values that ``item`` reads (its unit under this list's key), at least
     ``least`` of them, strictly ascending where ``rising``."""
@@ -339,7 +339,7 @@ class List(Field):
         return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Table(Field):
     """A table of rows ``[x, y]`` (a list of pairs), each column a :class:`Quantity`; the
     first column rising (a value may repeat, for a jump). ``names``: the columns in words."""
@@ -365,7 +365,7 @@ class Table(Field):
         return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Record:
     """The keys of a TOML table: ``fields`` by key; any other key is refused. ``units``: the
     table may hold a ``units`` table (catalogs), whose units it and the tables inside it
@@ -399,7 +399,7 @@ class Record:
         return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Section(Field):
     """A table, its keys those of ``record``."""
 
@@ -412,7 +412,7 @@ class Section(Field):
         return self.record.read(raw, ctx, at)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Entries(Field):
     """An array of tables (``[[belts]]``), each read by ``record``: at least ``least``, at
     most ``most``."""
@@ -430,7 +430,7 @@ class Entries(Field):
         return [self.record.read(e, ctx, f"{at}[{i}]") for i, e in enumerate(raw)]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Named(Field):
     """A table of named values (``[service_factors.NAME]``, ``mass = { 1 = .., 3 = .. }``),
     each read by ``item`` (its unit under this table's key)."""

@@ -8,7 +8,6 @@ beltcalc (:mod:`beltcalc.schema`) stands on; pint and TOML are not imported here
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 from beltcalc.errors import CatalogError
 
@@ -93,7 +92,7 @@ def text_problem(text: str, name: bool = False) -> str:
     return ""
 
 
-def read_toml(path: Path, what: str = "catalog file") -> dict:
+def read_toml(path: str | os.PathLike, what: str = "catalog file") -> dict:
     """The TOML file ``path`` as a dict, or a :class:`CatalogError` naming the file: missing,
     unreadable, not UTF-8, not TOML, too large (:data:`MAX_FILE_BYTES`) or nested deeper
     than :data:`MAX_DEPTH` (a 5,000-level array would exhaust Python's recursion)."""

@@ -2,11 +2,12 @@
 
 All functions take and return SI floats. References:
 
-[1] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
     Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
     Model", Energies 14 (2021) 317.
-[2] BRECO/BRECOFLEX timing-belt data pages (belt-pilot.com, id=1702): teeth in mesh.
-[3] Gates 508C sonic tension meter manual: span frequency.
+[BRECO] BRECO/BRECOFLEX timing-belt design pages (belt-pilot.com, id=1702): teeth in mesh.
+[Gates 508C] Gates 508C sonic tension meter manual: span frequency.
+[MISUMI] MISUMI timing pulleys, AT5 pitch-diameter table.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ def teeth_on_span(center_distance: float, pitch: float) -> float:
 
     Notes
     -----
-    Eq. (14) of [1]. Not rounded: the paper uses a/P + 1 as printed (125.5 for the WDU axis).
+    [W21 eq. 14]. Not rounded: the paper uses a/P + 1 as printed (125.5 for the WDU axis).
 
     Examples
     --------
@@ -56,7 +57,7 @@ def belt_mass_on_span(weight_per_length: float, center_distance: float) -> float
 
     Notes
     -----
-    Eq. (15) of [1].
+    [W21 eq. 15].
 
     Examples
     --------
@@ -85,7 +86,7 @@ def substitute_mass(belt_mass: float, teeth: float, model: str = "eq7") -> float
     teeth : float
         Teeth on the span z (> 1), [-]
     model : str
-        ``"eq7"`` (default, eq. (7) of [1]) or ``"rayleigh"`` (uniform bar fixed at one
+        ``"eq7"`` (default, [W21 eq. 7]) or ``"rayleigh"`` (uniform bar fixed at one
         end, kinetic energy of the linear static deflection shape).
 
     Notes
@@ -130,7 +131,7 @@ def belt_stiffness(specific_stiffness: float, center_distance: float) -> float:
 
     Notes
     -----
-    Eq. (16) of [1] and the text after it. Linear-elastic belt; the tooth and pulley
+    [W21 eq. 16] and the text after it. Linear-elastic belt; the tooth and pulley
     compliance are not included.
 
     Examples
@@ -150,7 +151,7 @@ def pulley_pitch_diameter(teeth: int, pitch: float) -> float:
 
     Notes
     -----
-    Timing-belt formula sheets; MISUMI AT5 table (20 teeth: 31.83 mm).
+    Timing-belt formula sheets; [MISUMI AT5 table] (20 teeth: 31.83 mm).
 
     Examples
     --------
@@ -175,7 +176,7 @@ def teeth_in_mesh(teeth_small: float, teeth_large: float, pitch: float,
 
     Notes
     -----
-    BRECO/BRECOFLEX design pages [2]; not rounded down. For equal pulleys (a linear
+    [BRECO]; not rounded down. For equal pulleys (a linear
     axis) the belt wraps half the pulley: z_e = z_1 / 2.
 
     Examples
@@ -225,7 +226,7 @@ def damping_from_tooth_load(table: Sequence[tuple[float, float]], pulley_diamete
 
     Notes
     -----
-    Section 3.2 and Fig. 8 of [1]: the fall of the allowable tooth load with speed is
+    [W21 sec. 3.2] and [W21 Fig. 8]: the fall of the allowable tooth load with speed is
     read as a viscous loss, fitted by least squares with a line through the origin.
     R^2 is 1 - SS_res / SS_tot about the mean of F_b.
 
@@ -280,12 +281,12 @@ def tension_peak(substitute_mass: float, mass: float, accel: float, tension_acce
 
     Notes
     -----
-    Eq. (10) of [1] with the rigidity condition k_TB x = m a_max of eq. (11) for the
+    [W21 eq. 10] with the rigidity condition k_TB x = m a_max of [W21 eq. 11] for the
     spring term. Quasi-static: assumes the belt never goes slack and no creep.
 
     Examples
     --------
-    The paper's WDU axis (section 3.2): 505.1 N.
+    The paper's WDU axis ([W21 sec. 3.2]): 505.1 N.
 
     >>> round(tension_peak(0.0005746, 50.0, 10.0, 0.1, 0.005, 20.0), 1)
     505.1
@@ -308,7 +309,7 @@ def pretension_displacement(force: float, stiffness: float) -> float:
 
     Notes
     -----
-    Eq. (12) of [1]. Linear belt, no creep. The paper prints 1.15 mm for its example,
+    [W21 eq. 12]. Linear belt, no creep. The paper prints 1.15 mm for its example,
     rounding 1.143 mm up.
 
     Examples
@@ -336,7 +337,7 @@ def span_frequency(force: float, weight_per_length: float, span_length: float) -
 
     Notes
     -----
-    Taut string; what a sonic tension meter reads (Gates 508C manual [3]:
+    Taut string; what a sonic tension meter reads ([Gates 508C]:
     T = 4 M W S^2 f^2 1e-9). Bending stiffness neglected; Gates advises spans longer
     than 20 pitches.
 

@@ -3,20 +3,24 @@ member, pulley size, shaft load, installation tension and its span frequency. SI
 
 References:
 
-[1] Elatech catalogue (Goodyear Elatech PT belt division), p. 55, as recorded in
-    ../shared/data/SOURCED_DATA.md: F_Tmax = F_TV + F_U <= F_Tadm; linear drives F_TV >= F_U.
-[2] BRECO/BRECOFLEX design pages (belt-pilot.com, id=1702): tooth capacity
+[Elatech] Elatech timing-belt catalogue (Goodyear Elatech PT belt division), as recorded in
+    ../shared/data/SOURCED_DATA.md: F_Tmax = F_TV + F_U <= F_Tadm; linear drives F_TV >= F_U
+    [Elatech p. 55].
+[BRECO] BRECO/BRECOFLEX timing-belt design pages (belt-pilot.com, id=1702): tooth capacity
     F_t = F_tspec(n) * b[cm] * z_e, teeth in mesh z_e capped at z_e max.
-[3] Tsubakimoto, technical data, synchronous belts, correction factors (Tables 1-4: Ko,
-    Ki, Ks, Ka) and meshing factor (Table 6: full capacity with 6 or more teeth in mesh).
-[4] Shigley's Mechanical Engineering Design (9th ed.), Section 17-1: T1 - T2 = F_U,
-    T1 + T2 = 2 F_i for a belt with equal spans; the resultant of two strand forces.
-[5] Wojtkowiak et al., Energies 14 (2021) 317, eq. (10)-(12): the paper's tension.
-[6] Gates 508C sonic tension meter manual: f = sqrt(F / m') / (2 L).
-[7] Wojtkowiak et al. 2021, eq. (26)-(28) as ``beltcalc motor-size`` computes them
-    (:mod:`beltcalc.sizing`): the peak motor torque of a duty cycle; through a gearbox of
-    ratio i the pulley shaft gets i T_M (Crowder, Electric Drives and Electromechanical
-    Systems, eq. 3.9-3.10, lossless).
+[Tsubaki belts] Tsubakimoto Chain, technical data, synchronous belts: correction factors
+    Ko, Ki, Ks, Ka [Tsubaki belts table 1-4] and meshing factor (full capacity with 6 or more
+    teeth in mesh) [Tsubaki belts table 6].
+[Shigley] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed.,
+    McGraw-Hill (2011): T1 - T2 = F_U, T1 + T2 = 2 F_i for a belt with equal spans; the
+    resultant of two strand forces [Shigley sec. 17-1].
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: the paper's tension [W21 eq. 10-12]; the peak motor
+    torque of a duty cycle [W21 eq. 26-28] as ``beltcalc motor-size`` computes it
+    (:mod:`beltcalc.sizing`).
+[C04] R. Crowder, Electric Drives and Electromechanical Systems, Newnes (2006): through a
+    gearbox of ratio i the pulley shaft gets i T_M [C04 eq. 3.9-3.10] (lossless).
 """
 
 from __future__ import annotations
@@ -41,8 +45,8 @@ def peripheral_force(torque: float, pitch_diameter: float) -> float:
 
     .. math:: F_U = 2 T / d_0
 
-    T torque on the pulley [N m], d_0 its pitch diameter [m]. Tsubaki formula sheet
-    ("Fa = 2T/Dp") and BRECO formula sheets (F_U = 2 10^3 M / d_0 in N, N m, mm).
+    T torque on the pulley [N m], d_0 its pitch diameter [m]. [Tsubaki belts formula sheet]
+    ("Fa = 2T/Dp") and [BRECO formula sheet] (F_U = 2 10^3 M / d_0 in N, N m, mm).
 
     >>> round(peripheral_force(31.83, 0.12732), 6)
     500.0
@@ -55,7 +59,7 @@ def peripheral_force(torque: float, pitch_diameter: float) -> float:
 def specific_tooth_load(table: tuple[tuple[float, float], ...], speed: float) -> float:
     r"""The catalog's specific tooth load F_tspec at pulley speed ``speed`` [N/m].
 
-    Linear interpolation in the table of (speed [rad/s], F_tspec [N/m]) pairs [2]; a
+    Linear interpolation in the table of (speed [rad/s], F_tspec [N/m]) pairs [BRECO]; a
     speed beyond the last row is refused (the table is not extrapolated).
 
     Notes
@@ -105,7 +109,7 @@ def tooth_shear_capacity(specific_load: float, width: float, teeth_meshing: floa
     .. math:: F_{U,adm} = F_{tspec}(n) \, b \, z_e
 
     F_tspec [N/m] per tooth and unit width (the catalogs print N/cm with b in cm), b belt
-    width [m], z_e teeth in mesh. BRECO [2]; Wojtkowiak et al. 2021, section 3.2.
+    width [m], z_e teeth in mesh. [BRECO]; [W21 sec. 3.2].
 
     >>> round(tooth_shear_capacity(3640.0, 0.025, 12), 6)
     1092.0
@@ -121,7 +125,7 @@ def shaft_load(tight: float, slack: float, wrap: float) -> float:
     .. math:: F_W = \sqrt{T_1^2 + T_2^2 - 2 T_1 T_2 \cos\alpha}
 
     T_1, T_2 strand forces [N], alpha the wrap angle [rad]: the strands pull along their
-    tangents, which enclose pi - alpha. Vector sum (Shigley [4], Fig. 17-1 geometry).
+    tangents, which enclose pi - alpha. Vector sum ([Shigley Fig. 17-1] geometry).
     alpha = pi gives T_1 + T_2.
 
     >>> shaft_load(1000.0, 500.0, math.pi)
@@ -140,11 +144,11 @@ def installation_tension_rule(force: float, layout: str, service: float = 1.0) -
 
     .. math:: F_v \ge F_U \ \text{(linear)}, \qquad F_v \ge c_2 F_U / 2 \ \text{(endless)}
 
-    Linear drives: Elatech catalogue p. 55 [1] (the idle side must not go slack whatever
+    Linear drives: [Elatech p. 55] (the idle side must not go slack whatever
     the carriage position). Endless two-pulley drives with equal spans: T_1 - T_2 = F,
-    T_1 + T_2 = 2 F_v (Shigley [4]) give the slack side T_2 = F_v - F / 2; at the design
+    T_1 + T_2 = 2 F_v [Shigley sec. 17-1] give the slack side T_2 = F_v - F / 2; at the design
     load F = c_2 F_U (the peak the tooth-shear check is made for, service factor c_2 of
-    Tsubaki [3]) it stays >= 0 when F_v >= c_2 F_U / 2. At the nominal F_U it is then
+    [Tsubaki belts table 1-4]) it stays >= 0 when F_v >= c_2 F_U / 2. At the nominal F_U it is then
     (c_2 - 1) F_U / 2 > 0. (F_v = F_U / 2 would leave it at 0 N under the nominal load and
     negative, i.e. slack and jumping teeth, under c_2 F_U: issue 28.)
 
@@ -179,16 +183,17 @@ class ServiceFactor:
 
 def service_factor(table: ServiceFactors, load: str, hours: float, peak_ratio: float,
                    starts_per_day: float, idler: str = "none", speed_up_ratio: float = 1.0) -> ServiceFactor:
-    r"""Service factor of a synchronous belt drive from the Tsubaki tables [3].
+    r"""Service factor of a synchronous belt drive [Tsubaki belts table 1-4].
 
     .. math:: c_2 = \max(K_o, K_a) + K_i + K_s
 
-    K_o (Table 1) by load kind, peak/rated output ratio and hours per day; K_a (Table 4)
-    by the peak ratio and starts-stops per day; K_i (Table 2) idler; K_s (Table 3)
-    speed-increase ratio. Class limits as printed: hours < 3 | 3-10 | > 10; peak ratio
-    <= 200 % | 201-249 % | >= 250 %; starts <= 10 | 11-100 | 101-999 | >= 1000; speed-up
-    [1, 1.25) | [1.25, 1.75) | ... Taking the larger of K_o and K_a and adding K_i, K_s is
-    our reading of how the tables combine (docs/design_checks.md).
+    K_o [Tsubaki belts table 1] by load kind, peak/rated output ratio and hours per day; K_a
+    [Tsubaki belts table 4] by the peak ratio and starts-stops per day; K_i idler
+    [Tsubaki belts table 2]; K_s [Tsubaki belts table 3] speed-increase ratio. Class limits
+    as printed: hours < 3 | 3-10 | > 10; peak ratio <= 200 % | 201-249 % | >= 250 %; starts
+    <= 10 | 11-100 | 101-999 | >= 1000; speed-up [1, 1.25) | [1.25, 1.75) | ... Taking the
+    larger of K_o and K_a and adding K_i, K_s is our reading of how the tables combine
+    (docs/design_checks.md).
 
     >>> from beltcalc.catalogs import load_catalog
     >>> t = load_catalog().service_factor_table("synchronous_belt")
@@ -239,7 +244,7 @@ class MotorPeak:
 
     @property
     def pulley_torque(self) -> float:
-        """Torque on the driving pulley [N m]: :math:`T_P = i T_M` [7]."""
+        """Torque on the driving pulley [N m]: :math:`T_P = i T_M` [C04 eq. 3.9-3.10], lossless."""
         return self.gear_ratio * self.torque
 
 
@@ -405,7 +410,7 @@ class BeltDriveReport:
     pretension: float                 # N, F_v used
     pretension_rule: float            # N
     pretension_source: str
-    paper_tension: float | None       # N, eq. 10-12
+    paper_tension: float | None       # N, [W21 eq. 10-12]
     tight: float                      # N
     slack: float                      # N
     shaft_loads: tuple[float, float]  # N, at the small and the large pulley
@@ -448,7 +453,7 @@ def _force(inp: BeltDriveInputs, d1: float) -> tuple[float, str, list[str]]:
 
 
 def _paper_tension(inp: BeltDriveInputs, belt: BeltProfile, d1: float) -> float | None:
-    """F_t,peak of eq. (10)-(12) [5] for a linear axis with a mass; None otherwise."""
+    """F_t,peak of [W21 eq. 10-12] for a linear axis with a mass; None otherwise."""
     if inp.layout != "linear" or inp.mass is None or inp.accel is None:
         return None
     from beltcalc.tension import TensionInputs, belt_damping
@@ -508,7 +513,7 @@ def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFa
         stock, stock_a, notes = _stock_lengths(geo.nearest_stock_teeth(z_belt, belt.stock_teeth), d1, d2, belt.pitch)
 
     z_e_raw = z1 * wrap[0] / (2.0 * math.pi)
-    z_e = float(min(z_e_raw, belt.z_e_max)) if belt.z_e_max else z_e_raw   # the maker's z_e max [2]
+    z_e = float(min(z_e_raw, belt.z_e_max)) if belt.z_e_max else z_e_raw   # the maker's z_e max [BRECO]
 
     force, force_source, force_warnings = _force(inp, d1)
     if inp.service_factor is not None:

@@ -1,6 +1,24 @@
 """Chain drives and rollers of a roller table: sprocket diameter, strand stiffness, the
 torsion of shafts and roller tubes, and how an off-centre load shares between a roller's
-two ends. SI floats only."""
+two ends. SI floats only.
+
+References:
+
+[ISO 606] ISO 606:2004, Short-pitch transmission precision roller and bush chains,
+    attachments and associated chain sprockets (the B series is DIN 8187): sprocket
+    diametral dimensions, pitch circle d = p / sin(180 deg / z), root d_f = d - d1, tip
+    diameter limits [ISO 606 clause 5.3].
+[Shigley] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed.,
+    McGraw-Hill (2011), roller chains [Shigley sec. 17-5]: chordal speed variation
+    [Shigley eq. 17-31] and [Shigley Fig. 17-18], chain length [Shigley eq. 17-34], centre
+    distance [Shigley eq. 17-35].
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: the belt's stiffness law [W21 eq. 16].
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission": the placement
+    factor w_p [RP eq. 16].
+"""
 
 from __future__ import annotations
 
@@ -14,7 +32,7 @@ def sprocket_pitch_diameter(pitch: float, teeth: int) -> float:
 
     .. math:: d = \frac{p}{\sin(180^\circ / z)}
 
-    p chain pitch [m], z teeth [-] (ISO 606 / DIN 8187; ``../shared/data/SOURCED_DATA.md``).
+    p chain pitch [m], z teeth [-] ([ISO 606 clause 5.3]; ``../shared/data/SOURCED_DATA.md``).
     Valid for z >= 3.
 
     >>> round(sprocket_pitch_diameter(0.015875, 19) * 1e3, 2)
@@ -30,7 +48,7 @@ def strand_stiffness(specific_stiffness: float, length: float) -> float:
     r"""Longitudinal stiffness of a chain strand [N/m]: :math:`c = c_{spec} / L`.
 
     c_spec [N] is the force per unit strain (the strand's EA), L [m] its free length. The
-    same law as the belt's k = C_spec / a (Wojtkowiak et al. 2021, eq. 16).
+    same law as the belt's k = C_spec / a [W21 eq. 16].
 
     >>> strand_stiffness(1.5e6, 0.6)
     2500000.0
@@ -63,7 +81,7 @@ def placement_factor(offset: float, width: float, length: float) -> float:
     .. math:: w_p = \frac{2 a_x}{L - a}
 
     a_x distance from the element's edge to the roller's drive end [m], a the element's
-    width along the roller [m], L the roller length [m] (Rusek & Popenda, eq. 16). A
+    width along the roller [m], L the roller length [m]; from [RP eq. 16]. A
     centred element has w_p = 1; w_p = 0 and 2 put it against either end.
 
     >>> placement_factor(0.2, 0.8, 1.2)
@@ -84,7 +102,7 @@ def load_split(factor: float, width: float, length: float) -> tuple[float, float
 
     The element presses uniformly on [a_x, a_x + a]; its centre lies at
     c = a_x + a/2 = (w_p (L - a) + a) / 2, and the lever rule gives the far end
-    c / L and the drive end 1 - c / L. Eq. 16 of Rusek & Popenda defines w_p but not how it
+    c / L and the drive end 1 - c / L. [RP eq. 16] defines w_p but not how it
     enters the equations; this is our statics.
 
     >>> load_split(1.0, 0.8, 1.2)
@@ -99,14 +117,10 @@ def load_split(factor: float, width: float, length: float) -> tuple[float, float
 
 
 # --- roller-chain drive geometry (issue 13) -----------------------------------------------
-# [ISO 606] ISO 606:2004, clause 5.3 (sprocket diametral dimensions: pitch circle
-#   d = p / sin(180 deg / z), root d_f = d - d1, tip diameter limits).
-# [Shigley] Shigley's Mechanical Engineering Design (9th ed.), Section 17-5: chordal speed
-#   variation (eq. 17-31 and Fig. 17-18), chain length (eq. 17-34), centre distance (17-35).
 
 
 def sprocket_root_diameter(pitch: float, teeth: int, roller_diameter: float) -> float:
-    r"""Root diameter of a sprocket [m]: :math:`d_f = d - d_1` (ISO 606, 5.3).
+    r"""Root diameter of a sprocket [m]: :math:`d_f = d - d_1` [ISO 606 clause 5.3].
 
     d pitch-circle diameter [m], d_1 the chain's roller diameter [m].
 
@@ -122,7 +136,7 @@ def sprocket_tip_diameters(pitch: float, teeth: int, roller_diameter: float) -> 
 
     .. math:: d_{a,min} = d + p\,(1 - 1.6 / z) - d_1, \quad d_{a,max} = d + 1.25 p - d_1
 
-    ISO 606, 5.3 (tooth heights and tip diameters). The CROSS+MORSE 06B 19-tooth sprocket
+    [ISO 606 clause 5.3] (tooth heights and tip diameters). The CROSS+MORSE 06B 19-tooth sprocket
     (d = 57.87 mm, outside 61.3 mm) lies inside this range.
 
     >>> [round(x * 1e3, 2) for x in sprocket_tip_diameters(0.009525, 19, 0.00635)]
@@ -139,7 +153,7 @@ def polygon_speed_variation(teeth: int) -> float:
     .. math:: \frac{v_{max} - v_{min}}{v_{max}} = 1 - \cos(180^\circ / z)
 
     The chain leaves at the radius d/2 when a roller sits on the line of centres and at
-    (d/2) cos(180 deg / z) half a pitch later (Shigley Fig. 17-18). z >= 3.
+    (d/2) cos(180 deg / z) half a pitch later [Shigley Fig. 17-18], [Shigley eq. 17-31]. z >= 3.
 
     >>> round(polygon_speed_variation(17), 5)
     0.01704
@@ -154,7 +168,7 @@ def chain_length_links(center_distance: float, pitch: float, teeth_small: int, t
 
     .. math:: \frac{L}{p} = \frac{2C}{p} + \frac{N_1 + N_2}{2} + \frac{(N_2 - N_1)^2}{4\pi^2 C/p}
 
-    Shigley eq. (17-34). The usual approximate formula (it drops terms of order beta^4, as
+    [Shigley eq. 17-34]. The usual approximate formula (it drops terms of order beta^4, as
     the manufacturers' charts do).
 
     >>> round(chain_length_links(0.635, 0.0254, 17, 34), 4)
@@ -177,12 +191,12 @@ def chain_links_even(links: float) -> int:
 
 
 def chain_center_distance(links: float, pitch: float, teeth_small: int, teeth_large: int) -> float:
-    r"""Centre distance for a chain of ``links`` pitches [m] (exact inverse of eq. 17-34).
+    r"""Centre distance for a chain of ``links`` pitches [m] (exact inverse of [Shigley eq. 17-34]).
 
     .. math:: A = \frac{N_1 + N_2}{2} - \frac{L}{p}, \quad
               C = \frac{p}{4}\left[-A + \sqrt{A^2 - 8\left(\frac{N_2 - N_1}{2\pi}\right)^2}\right]
 
-    Shigley eq. (17-35).
+    [Shigley eq. 17-35].
 
     >>> round(chain_center_distance(76, 0.0254, 17, 34) * 1e3, 3)
     637.647
@@ -197,7 +211,7 @@ def chain_center_distance(links: float, pitch: float, teeth_small: int, teeth_la
 
 
 def chain_speed(pitch: float, teeth: int, speed: float) -> float:
-    r"""Mean chain speed [m/s]: :math:`v = z p \omega / (2\pi)` (Shigley eq. 17-30).
+    r"""Mean chain speed [m/s]: :math:`v = z p \omega / (2\pi)` [Shigley eq. 17-30].
 
     >>> round(chain_speed(0.0254, 17, 300 * math.pi / 30), 4)
     2.159
@@ -212,7 +226,7 @@ def chain_wrap_angle(pitch: float, teeth_small: int, teeth_large: int, center_di
     .. math:: \theta_1 = \pi - 2 \arcsin\frac{d_2 - d_1}{2 C}
 
     d_1, d_2 the pitch diameters p / sin(180 deg / z) [m], C the centre distance [m]: the
-    open-belt geometry of Shigley eq. (17-1) on the pitch circles. Equal sprockets: pi.
+    open-belt geometry of [Shigley eq. 17-1] on the pitch circles. Equal sprockets: pi.
 
     >>> round(math.degrees(chain_wrap_angle(0.0254, 17, 34, 0.635)), 2)
     167.61
@@ -235,10 +249,10 @@ def galling_speed(pitch: float, teeth: int, tension: float) -> float:
     .. math:: n_1 \le 1000 \left[\frac{82.5}{7.95^p \, 1.0278^{N_1} \, 1.323^{F/1000}}\right]^{1/(1.59 \log_{10} p + 1.873)}
               \ \text{rev/min}
 
-    p pitch [in], N_1 teeth of the small sprocket, F the chain tension [lbf] (Shigley 9th
-    ed., Section 17-5: "the maximum speed (rev/min) for a chain drive is limited by galling
-    between the pin and the bushing"; Table 17-20's Type C' cells are this region: "submit
-    design to manufacturer for evaluation"). It falls with pitch, teeth and tension.
+    p pitch [in], N_1 teeth of the small sprocket, F the chain tension [lbf] ([Shigley sec. 17-5]:
+    "the maximum speed (rev/min) for a chain drive is limited by galling between the pin and
+    the bushing"; the Type C' cells of [Shigley table 17-20] are this region: "submit design
+    to manufacturer for evaluation"). It falls with pitch, teeth and tension.
 
     >>> round(galling_speed(0.5 * 0.0254, 17, 0.0) * 30 / math.pi)
     8061

@@ -3,37 +3,42 @@ the geometry and safety of each. SI floats only.
 
 References:
 
-[1] American Chain Association rating formulas as printed in Shigley's Mechanical
-    Engineering Design (9th ed.), eq. (17-32) link-plate limit and (17-33) roller-bushing
-    limit, with the multiple-strand factors K2 of Table 17-23; the same formulas and
-    constants in Machinery's Handbook, "Horsepower capacity of roller chains".
-[2] ISO 10823:2004 (selection of roller chain drives): corrected power = power x service
-    factor x tooth factor (19 / z_1)^1.08, i.e. the same z_1^1.08 law as [1].
-[3] Diamond Chain, technical engineering guide: the load in service should never exceed
-    1/6 of the minimum ultimate tensile strength.
-[4] Shigley Example 17-5: 90 hp at 300 rev/min, 17/34 teeth, K_s = 1.3, n_d = 1.5,
-    C/p = 25 -> 1 strand no. 200, 2 strands no. 160, 3 and 4 strands no. 140.
-[5] McGuire Bearing Company, "Better chain performance": the highest chain speed of Type A
-    (manual) and Type B (oil bath) lubrication by chain number, 40 to 160 (in
+[Shigley] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed.,
+    McGraw-Hill (2011). The American Chain Association rating formulas: link-plate limit
+    [Shigley eq. 17-32] and roller-bushing limit [Shigley eq. 17-33], with the
+    multiple-strand factors K2 of [Shigley table 17-23]; the same formulas and constants in
+    Machinery's Handbook, "Horsepower capacity of roller chains". [Shigley Example 17-5]:
+    90 hp at 300 rev/min, 17/34 teeth, K_s = 1.3, n_d = 1.5, C/p = 25 -> 1 strand no. 200,
+    2 strands no. 160, 3 and 4 strands no. 140. [Shigley sec. 17-5]: "for smooth operation
+    at moderate and high speeds ... a driving sprocket with at least 17 teeth"; "driven
+    sprockets are not made in standard sizes over 120 teeth"; the most successful drives
+    have ratios up to 6:1; the galling speed limit (:func:`beltcalc.chain.galling_speed`),
+    the Type C' region of [Shigley table 17-20] ("submit design to manufacturer for
+    evaluation").
+[ISO 10823] ISO 10823:2004, Guidance on the selection of roller chain drives: corrected
+    power = power x service factor x tooth factor (19 / z_1)^1.08, i.e. the same z_1^1.08
+    law as [Shigley eq. 17-32].
+[ISO 606] ISO 606:2004, Short-pitch transmission precision roller and bush chains,
+    attachments and associated chain sprockets: the sprockets (:mod:`beltcalc.chain`).
+[Diamond guide] Diamond Chain, technical engineering guide: the load in service should
+    never exceed 1/6 of the minimum ultimate tensile strength.
+[McGuire] McGuire Bearing Company, "Better chain performance": the highest chain speed of
+    Type A (manual) and Type B (oil bath) lubrication by chain number, 40 to 160 (in
     ``catalogs/chains.toml``, key ``lubrication``); above Type B, Type C (oil stream).
-[6] Shigley 9th ed., Section 17-5: "for smooth operation at moderate and high speeds ... a
-    driving sprocket with at least 17 teeth"; "driven sprockets are not made in standard
-    sizes over 120 teeth"; the galling speed limit (:func:`beltcalc.chain.galling_speed`),
-    Table 17-20's Type C' region ("submit design to manufacturer for evaluation").
-[7] Diamond Chain, FAQ (diamondchain.com/faq): "What is the recommended minimum chain wrap
-    in a roller chain drive?": 120 deg on the smallest sprocket; "What is the smallest
-    suggested sprocket size to minimize the effects of chordal action?": 12 teeth for a
-    slow drive (drip lubrication), 17 medium (oil bath), 25 high speed (pumped).
-[8] The chain makers' FAQ "How is the drive ratio of a roller chain drive calculated and
-    what is the maximum recommended single reduction?" (Diamond Chain's wording, as
-    reproduced at experts123.com): 7:1; above it a double reduction. Shigley [6]: the most
-    successful drives have ratios up to 6:1.
-[9] HKK Chain, engineering information, "Installation": the optimum centre distance is 30
-    to 50 times the chain pitch; 80 pitches is the longest the common design rules allow
+[Diamond FAQ] Diamond Chain, FAQ (diamondchain.com/faq): "What is the recommended minimum
+    chain wrap in a roller chain drive?": 120 deg on the smallest sprocket; "What is the
+    smallest suggested sprocket size to minimize the effects of chordal action?": 12 teeth
+    for a slow drive (drip lubrication), 17 medium (oil bath), 25 high speed (pumped); "How
+    is the drive ratio of a roller chain drive calculated and what is the maximum
+    recommended single reduction?" (as reproduced at experts123.com): 7:1; above it a
+    double reduction.
+[HKK] HKK Chain, engineering information, "Installation": the optimum centre distance is
+    30 to 50 times the chain pitch; 80 pitches is the longest the common design rules allow
     (e.g. PTC Asia, "The center distance and chain length": a = (30-50) p, a_max <= 80 p).
-[10] U.S. Tsubaki, Roller Chain General Catalog, RS40/RS50 page, note 2: the maximum
-    allowable load with a one-pitch offset link is 65 % of the chain's (Tsubaki, "The
-    Complete Guide to Chain", Table 2.1: an offset link is 35 % lower in fatigue strength).
+[Tsubaki chains] U.S. Tsubaki, Roller Chain General Catalog: the maximum allowable load
+    with a one-pitch offset link is 65 % of the chain's (RS40/RS50 page, [Tsubaki chains note 2])
+    (Tsubaki, "The Complete Guide to Chain", table 2.1: an offset link is 35 % lower in
+    fatigue strength).
 """
 
 from __future__ import annotations
@@ -50,14 +55,16 @@ from beltcalc.errors import InputError, require_positive, require_range
 HORSEPOWER = 745.69987158227022        # W, mechanical horsepower (550 ft lbf/s)
 INCH = 0.0254                          # m
 RPM = math.pi / 30.0                   # rad/s per rev/min
-# Multiple-strand factors K2, Shigley Table 17-23 [1]
+# Multiple-strand factors K2 [Shigley table 17-23]
 STRAND_FACTORS = {1: 1.0, 2: 1.7, 3: 2.5, 4: 3.3, 5: 3.9, 6: 4.6, 8: 6.0}
-LUBRICATION = {"A": "manual or drip", "B": "oil bath or slinger disc", "C": "oil stream (pump)"}   # [5]
+LUBRICATION = {"A": "manual or drip", "B": "oil bath or slinger disc", "C": "oil stream (pump)"}   # [McGuire]
 # Plausibility of the drive (issue 28): the makers' rules, each a rule of RULES with its source; the
 # small sprocket's limit is data of the drive (its lubrication type), the others are fixed.
-MIN_TEETH_BY_LUBRICATION = {"A": 12, "B": 17, "C": 25}   # small sprocket, by the drive's lubrication type [7]
-MIN_TEETH = 17                         # small sprocket where the lubrication type is not known [6]
-OFFSET_LINK_FACTOR = 0.65              # rating of a chain with a one-pitch offset link (odd link count) [10]
+# small sprocket, by the drive's lubrication type [Diamond FAQ]; 17 where the type is not known [Shigley sec. 17-5]
+MIN_TEETH_BY_LUBRICATION = {"A": 12, "B": 17, "C": 25}
+MIN_TEETH = 17
+# rating of a chain with a one-pitch offset link (odd link count) [Tsubaki chains note 2]
+OFFSET_LINK_FACTOR = 0.65
 
 
 def lubrication_type(chain_speed: float, limits: tuple[float, float] | None) -> str | None:
@@ -67,7 +74,7 @@ def lubrication_type(chain_speed: float, limits: tuple[float, float] | None) -> 
 
     ``limits`` = (v_A, v_B) [m/s], the highest chain speed of Type A (manual or drip) and
     Type B (oil bath or slinger disc) of the chain's pitch, the catalog's ``lubrication``
-    (McGuire Bearing's table [5]); above v_B a pumped oil stream (Type C). None when the
+    ([McGuire] table); above v_B a pumped oil stream (Type C). None when the
     catalog has no limits for the chain. A speed within 1e-12 of a limit counts as on it (the
     table's ft/min and a speed computed in other units differ in the last bits).
 
@@ -88,8 +95,9 @@ def rated_power_link_plate(pitch: float, teeth: int, speed: float) -> float:
 
     .. math:: H_1 = 0.004\, N_1^{1.08}\, n_1^{0.9}\, p^{3 - 0.07 p} \ \text{hp}
 
-    p pitch [in], n_1 small-sprocket speed [rev/min], N_1 its teeth (Shigley eq. 17-32 [1]).
-    Rates ANSI chains 40-240 (no. 41: 0.0022, not in the catalog).
+    p pitch [in], n_1 small-sprocket speed [rev/min], N_1 its teeth [Shigley eq. 17-32].
+    Rates ANSI chains 40-240 (no. 41: 0.0022, not in the catalog). The tooth factor of
+    [ISO 10823] follows the same z_1^1.08 law.
 
     >>> round(rated_power_link_plate(1.75 * INCH, 17, 300 * RPM) / HORSEPOWER, 2)
     72.39
@@ -105,8 +113,8 @@ def rated_power_roller_bushing(pitch: float, teeth: int, speed: float, k_r: floa
 
     .. math:: H_2 = \frac{1000\, K_r\, N_1^{1.5}\, p^{0.8}}{n_1^{1.5}} \ \text{hp}
 
-    K_r = 17 for chains 40-240 (29 for 25 and 35), p [in], n_1 [rev/min] (Shigley eq.
-    17-33 [1]). Falls with speed: it governs at high speed.
+    K_r = 17 for chains 40-240 (29 for 25 and 35), p [in], n_1 [rev/min]: the rating of
+    [Shigley eq. 17-33]. Falls with speed: it governs at high speed.
 
     >>> round(rated_power_roller_bushing(0.5 * INCH, 17, 3000 * RPM) / HORSEPOWER, 3)
     4.165
@@ -119,7 +127,7 @@ def rated_power_roller_bushing(pitch: float, teeth: int, speed: float, k_r: floa
 
 def rated_power(chain: Chain, teeth: int, speed: float) -> tuple[float, str]:
     """Rating of ``chain`` (all its strands) on a ``teeth`` sprocket at ``speed`` [W], and
-    which limit governs: K2 min(H1, H2) [1]."""
+    which limit governs: K2 min(H1, H2) by [Shigley eq. 17-32, 17-33] and K2 of [Shigley table 17-23]."""
     if chain.strands not in STRAND_FACTORS:
         raise InputError(f"{chain.name}: no multiple-strand factor for {chain.strands} strands", param="chain")
     h1 = rated_power_link_plate(chain.pitch, teeth, speed)
@@ -158,8 +166,8 @@ class ChainCandidate:
     centrifugal: float | None          # N, q v^2
     safety_factor: float               # F_B / (K_s F + F_c); F_c left out where the mass is unknown
     carries: bool
-    galling_speed: float | None = None  # rad/s, Shigley 17-5 at the tension per strand [6]
-    derating: float = 1.0              # rating factor: OFFSET_LINK_FACTOR with an odd link count [10]
+    galling_speed: float | None = None  # rad/s, [Shigley sec. 17-5] at the tension per strand
+    derating: float = 1.0              # OFFSET_LINK_FACTOR with an odd link count [Tsubaki chains]
 
 
 @dataclass(frozen=True)
@@ -203,8 +211,8 @@ SELECTION_RULE = ("rated power K2 min(H1, H2) >= n_d K_s P (ACA formulas, Shigle
 
 
 def chain_geometry(chain: Chain, inp: ChainInputs) -> ChainGeometry:
-    """Sprocket diameters (ISO 606), chain length in even links (or the ``links`` asked for)
-    and the centre distance back-solved for it (Shigley eq. 17-34/35), polygon speed
+    """Sprocket diameters [ISO 606 clause 5.3], chain length in even links (or the ``links``
+    asked for) and the centre distance back-solved for it [Shigley eq. 17-34, 17-35], polygon speed
     variation, chain wrap on the small sprocket."""
     z1, z2 = inp.teeth_small, inp.teeth_large
     d = (cm.sprocket_pitch_diameter(chain.pitch, z1), cm.sprocket_pitch_diameter(chain.pitch, z2))
@@ -238,22 +246,24 @@ def chain_geometry(chain: Chain, inp: ChainInputs) -> ChainGeometry:
 
 def check_chain(chain: Chain, inp: ChainInputs, power: float, required: float) -> ChainCandidate:
     """Rating (x :data:`OFFSET_LINK_FACTOR` with an odd ``links``), pull, centrifugal pull,
-    breaking-load safety and galling speed of one chain."""
+    breaking-load safety [Diamond guide] and galling speed of one chain."""
     rated, governing = rated_power(chain, inp.teeth_small, inp.speed)
-    derating = OFFSET_LINK_FACTOR if inp.links is not None and int(inp.links) % 2 else 1.0     # [10]
+    derating = OFFSET_LINK_FACTOR if inp.links is not None and int(inp.links) % 2 else 1.0   # [Tsubaki chains]
     rated *= derating
     v = cm.chain_speed(chain.pitch, inp.teeth_small, inp.speed)
     pull = power / v
     f_c = chain.mass * v * v if chain.mass is not None else None
     tension = inp.service_factor * pull + (f_c or 0.0)
     safety = chain.breaking_load / tension   # no mass: without q v^2
-    carries = rated >= required and RULES["chain_safety"].check(safety).verdict == "pass"     # [3]
+    carries = rated >= required and RULES["chain_safety"].check(safety).verdict == "pass"     # [Diamond guide]
     galling = cm.galling_speed(chain.pitch, inp.teeth_small, tension / chain.strands) if tension < 1e300 else 0.0
     return ChainCandidate(chain, rated, governing, required / rated, v, pull, f_c, safety, carries, galling, derating)
 
 
 def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = None) -> ChainReport:
     """Every catalog chain checked; the smallest that carries the drive chosen (or ``name``).
+
+    The example is [Shigley Example 17-5]:
 
     >>> from beltcalc.catalogs import load_catalog
     >>> r = select_chain(ChainInputs(speed=300 * RPM, power=90 * HORSEPOWER, service_factor=1.3,
@@ -353,14 +363,15 @@ def chain_checks(c: ChainCandidate, required: float, inp: ChainInputs | None = N
                  g: ChainGeometry | None = None, lube: str | None = None) -> list[Check]:
     """The chosen (or named) chain's checks: its rating against the required rating and its
     breaking-load safety (the two rules of :data:`SELECTION_RULE`); with the drive (``inp``)
-    and its geometry ``g`` also the speed the ratings hold to (galling [6]), the
-    lubrication data, and the makers' plausibility rules: small-sprocket teeth by the
-    lubrication type ``lube`` [6][7], large-sprocket teeth [6], ratio [8], chain wrap [7],
-    centre distance in pitches [9].
+    and its geometry ``g`` also the speed the ratings hold to (galling [Shigley sec. 17-5]),
+    the lubrication data, and the makers' plausibility rules: small-sprocket teeth by the
+    lubrication type ``lube`` ([Shigley sec. 17-5], [Diamond FAQ]), large-sprocket teeth
+    [Shigley sec. 17-5], ratio [Diamond FAQ], chain wrap [Diamond FAQ], centre distance in
+    pitches [HKK].
 
     A chain that does not carry the drive (``--chain`` names it) fails one or both of the
     first two. Above the galling speed the rating is unverified, not a pass: the ACA charts
-    do not vouch for it there (Shigley Table 17-20's C' region: ask the maker).
+    do not vouch for it there (the C' region of [Shigley table 17-20]: ask the maker).
     """
     name = c.chain.name
     fc = "" if c.centrifugal is not None else "; no chain mass in the catalog: q v^2 left out"

@@ -3,14 +3,17 @@ losses, and the motor torque, power and energy of a motion profile.
 
 References:
 
-[1] Wojtkowiak et al., Energies 14 (2021) 317, eq. (17)-(29). Eq. (18)-(28) print
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: [W21 eq. 17-29]. [W21 eq. 18-28] print
     ``(m_TB + m) D`` and ``F_R D``; both are dimensionally wrong (kg m added to kg m^2,
-    and a torque twice too large). The right forms, used here, are those of [2].
-[2] A. Crowder, Electric Drives and Electromechanical Systems, p. 86, eq. (3.21)-(3.27):
-    I_L = M D^2 / 4, T_ext = D F / 2, I_tot = I_p1 + I_L + (I_RL + I_p2) / n^2.
+    and a torque twice too large). The right forms, used here, are those of [C04].
+[C04] R. Crowder, Electric Drives and Electromechanical Systems, Newnes (2006), p. 86,
+    [C04 eq. 3.21-3.27]: I_L = M D^2 / 4, T_ext = D F / 2,
+    I_tot = I_p1 + I_L + (I_RL + I_p2) / n^2.
 
 A gearbox of ratio i (motor speed / drive-pulley speed) between motor and drive pulley is
-an extension of ours; with i = 1 every formula reduces to [1]/[2]. SI floats only.
+an extension of ours; with i = 1 every formula reduces to [W21] and [C04]. SI floats only.
 """
 
 from __future__ import annotations
@@ -51,7 +54,7 @@ def motor_damping(efficiency: float, rated_torque: float, rated_speed: float) ->
     Notes
     -----
     DESIGN.md 2.5: the loss torque (1 - eta) T_n at rated speed, spread as viscous
-    damping. Wojtkowiak et al. 2021 take b_M3 from "catalog data on drive efficiency".
+    damping. [W21 sec. 3.2] takes b_M3 from "catalog data on drive efficiency".
 
     Examples
     --------
@@ -109,7 +112,7 @@ class BeltAxis:
             J_{red} - J_M = J_G + \frac{1}{i^2}\left(J_C + J_{P1} + \frac{J_{P2} + J_{RL}}{n^2}
                             + (m + m_{TB}) \frac{D^2}{4}\right)
 
-        Eq. (18) of [1] corrected by eq. (3.22), (3.27) of [2]. Keys: gearbox, coupling,
+        [W21 eq. 18] corrected by [C04 eq. 3.21, 3.22, 3.27]. Keys: gearbox, coupling,
         pulleys, carriage, belt, rotating load.
 
         >>> ax = BeltAxis(mass=50.0, substitute_mass=0.0, pulley_diameter=0.1,
@@ -139,7 +142,7 @@ class BeltAxis:
 
         .. math:: b_{red} = b_M + \frac{1}{i^2}\left(b_B (1 + 1/n^2) + b_{LG} \frac{D^2}{4}\right)
 
-        Eq. (23) of [1] (2 b_B for n = 1) with D^2/4 for its misprinted D/4.
+        [W21 eq. 23] (2 b_B for n = 1) with D^2/4 for its misprinted D/4.
         """
         r2 = self.pulley_diameter ** 2 / 4.0
         return motor_damping + (self.bearing_damping * (1 + 1 / self.belt_ratio ** 2)
@@ -151,7 +154,7 @@ class BeltAxis:
 
         .. math:: T_R = (F_R + \mu m g) \frac{D}{2 i}
 
-        Eq. (27) of [1] with eq. (3.23)-(3.24) of [2]: F D / 2, not the printed F D.
+        [W21 eq. 27] with [C04 eq. 3.23-3.24]: F D / 2, not the printed F D.
         """
         return (self.resistance + self.guide_friction * self.mass * G0) * self.pulley_diameter / (2 * self.gear_ratio)
 
@@ -190,7 +193,7 @@ class Duty:
     braking_torque: float       # most negative T (0 if none) [N m]
     braking_energy: float       # energy fed back while T omega < 0 (>= 0) [J]
     accel_time: float           # t_a [s]
-    accel_energy: float         # eq. 29: T_max omega_max t_a [J]
+    accel_energy: float         # [W21 eq. 29]: T_max omega_max t_a [J]
     accel_energy_exact: float   # integral of T omega over the acceleration phase [J]
     cycle_time: float           # [s]
 
@@ -231,7 +234,7 @@ def duty(profile: Trapezoid, inertia: float, damping: float, resistance_torque: 
 
     Notes
     -----
-    Eq. (26)/(28) of [1] with the errata fixed, eq. (29) for the energy. Within a phase
+    [W21 eq. 26, 28] with the errata fixed, [W21 eq. 29] for the energy. Within a phase
     T is linear and T omega quadratic in time, so the integrals are exact (Simpson's
     rule, and the closed form tau (T0^2 + T0 T1 + T1^2) / 3 for T^2). With these
     models E_29(eps) = J omega^2 + (b omega + T_R) omega^2 / eps exactly, while the exact

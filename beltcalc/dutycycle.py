@@ -3,13 +3,13 @@ payload, external force and direction, on an inclined or vertical axis with an o
 counterweight and holding brake, through a gearbox with an efficiency that depends on the
 direction of power flow. Torque, power and energy are exact piecewise polynomials of time.
 
-Within a phase of constant jerk the speed is a polynomial of degree <= 2 and so is every
-torque; the pieces are cut where the load torque changes sign (the gearbox's efficiency
-changes with the direction of power flow) and where the motor torque changes sign
-(braking starts or ends), so that every integral below (T^2, T omega, the braking power)
-is the integral of a polynomial over an interval: exact, no samples. Peaks are taken at
-both ends of every piece (left and right limits, because the acceleration of a trapezoid
-jumps at the phase ends) and at the vertex of each quadratic.
+Within a phase of constant jerk (the S-curve of [BM08 sec. 3.4]) the speed is a polynomial
+of degree <= 2 and so is every torque; the pieces are cut where the load torque changes sign
+(the gearbox's efficiency changes with the direction of power flow) and where the motor
+torque changes sign (braking starts or ends), so that every integral below (T^2, T omega,
+the braking power) is the integral of a polynomial over an interval: exact, no samples.
+Peaks are taken at both ends of every piece (left and right limits, because the acceleration
+of a trapezoid jumps at the phase ends) and at the vertex of each quadratic.
 
 Conventions (SI): the axis coordinate x runs along the guide; ``incline`` is the angle of
 +x above the horizontal (90 deg: +x is straight up). A move with ``direction`` +1 runs in
@@ -18,21 +18,25 @@ produce (its electromagnetic torque, the motor's own losses included).
 
 References
 ----------
-[1] Wojtkowiak et al., Energies 14 (2021) 317, eq. (17)-(29) (errata: DESIGN.md 2.5).
-[2] A. Crowder, Electric Drives and Electromechanical Systems (2006), eq. (3.21)-(3.27):
-    reflected inertia M D^2/4 and torque F D/2; eq. (3.9)-(3.10): a gearbox of efficiency
-    eta passes T_out = eta i T_in when driving; a back-driven gearbox passes
-    T_in = eta_b T_out / i (power flows from the load to the motor).
-[3] Yaskawa Sigma-7 AC servo drive product manual (SIEP S800001 28), "Calculating the
-    Required Capacity of Regenerative Resistors" (section 12.8.6, "Selecting External
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: [W21 eq. 17-29] (errata: DESIGN.md 2.5).
+[C04] R. Crowder, Electric Drives and Electromechanical Systems, Newnes (2006): reflected
+    inertia M D^2/4 and torque F D/2 [C04 eq. 3.21-3.27]; a gearbox of efficiency eta
+    passes T_out = eta i T_in when driving; a back-driven gearbox passes
+    T_in = eta_b T_out / i (power flows from the load to the motor) [C04 eq. 3.9-3.10].
+[Yaskawa] Yaskawa Sigma-7 AC servo drive product manual (SIEP S800001 28), "Calculating the
+    Required Capacity of Regenerative Resistors" ([Yaskawa sec. 12.8.6], "Selecting External
     Regenerative Resistor: Calculating the Regenerative Energy"): the energy a braking event
     returns is first stored in the SERVOPACK's DC-bus capacitors, E_C = C (U_max^2 - U_dc^2)
     / 2; the rest, E_K, goes to the regenerative resistor, whose required capacity is
     W_K = E_K / (0.2 T) (step 6; T the repeat cycle; note 1: 0.2 is the resistor's utilized
     load ratio of 20 %). Its average power E_K / T is the heat it sheds; its peak power the
     largest braking power.
-[4] Biagiotti & Melchiorri, Trajectory Planning for Automatic Machines and Robots (2008),
-    section 3.4 (the S-curve, see :mod:`beltcalc.profiles`).
+[BM08] L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots,
+    Springer (2008): the S-curve (see :mod:`beltcalc.profiles`).
+[NR3] W. H. Press, S. A. Teukolsky, W. T. Vetterling, B. P. Flannery, Numerical Recipes,
+    3rd ed., Cambridge University Press (2007): the quadratic formula.
 """
 
 from __future__ import annotations
@@ -87,8 +91,7 @@ def _pshift(p: tuple[float, ...], t0: float) -> tuple[float, ...]:
 def _roots_inside(p: tuple[float, ...], duration: float) -> list[float]:
     """Real roots of a polynomial of degree <= 2 strictly inside (0, duration), sorted.
 
-    Closed form with the cancellation-free quadratic formula (Press et al., Numerical
-    Recipes, 3rd ed., eq. 5.6.4)."""
+    Closed form with the cancellation-free quadratic formula [NR3 eq. 5.6.4]."""
     c = list(p) + [0.0] * (3 - len(p))
     c0, c1, c2 = c[0], c[1], c[2]
     scale = max(abs(c0), abs(c1) * duration, abs(c2) * duration * duration)
@@ -247,8 +250,8 @@ class AxisDrive:
             T_F = \big(F_R + F_{seg} + \mu (m + m_p) g \cos\alpha\big) \frac{D}{2 i}, \quad
             T_S = (m + m_p - m_{cw}) g \sin\alpha \frac{D}{2 i}
 
-        T_F acts against the motion, T_S (gravity) always towards -x. Eq. (18), (23), (27)
-        of [1] with eq. (3.22)-(3.24) of [2]; gravity and the normal force on an incline:
+        T_F acts against the motion, T_S (gravity) always towards -x. [W21 eq. 18, 23, 27]
+        with [C04 eq. 3.22-3.24]; gravity and the normal force on an incline:
         F = m g sin(alpha), N = m g cos(alpha).
         """
         ax, gb, mt = self.axis, self.gearbox, self.mounting
@@ -390,8 +393,8 @@ def cycle_duty(drive: AxisDrive, segments, motor_inertia: float = 0.0, motor_dam
 
     Notes
     -----
-    [1] eq. (26)-(28) with the errata of DESIGN.md 2.5; gearbox efficiency as [2] eq.
-    (3.9)-(3.10). The speed and torque of each piece are polynomials of degree <= 2, the
+    [W21 eq. 26-28] with the errata of DESIGN.md 2.5; gearbox efficiency as
+    [C04 eq. 3.9-3.10]. The speed and torque of each piece are polynomials of degree <= 2, the
     integrals of T^2 and T omega are computed from their coefficients (exact up to
     rounding). The holding torque at rest is taken through the gearbox without
     efficiency (a static gearbox neither helps nor hinders; conservative for a hold that
@@ -567,8 +570,9 @@ def _vertices(p: tuple[float, ...], duration: float) -> list[float]:
 
 # --- regeneration -------------------------------------------------------------------------------
 
-# [3] step 6, note 1: a regenerative resistor is rated for a utilized load ratio of 20 %, so its
-# required capacity is W_K = E_K / (0.2 T), five times the cycle's average braking power.
+# [Yaskawa sec. 12.8.6] step 6, note 1: a regenerative resistor is rated for a utilized load
+# ratio of 20 %, so its required capacity is W_K = E_K / (0.2 T), five times the cycle's average
+# braking power.
 RESISTOR_LOAD_RATIO = 0.2
 
 @dataclass(frozen=True)
@@ -577,7 +581,7 @@ class Regeneration:
 
     ``stored`` [J] the DC-bus capacitors take per braking event (None: not given, all of
     it goes to the resistor); ``resistor_energy`` E_K [J] per cycle; ``resistor_rating`` the
-    resistor's required capacity W_K = E_K / (0.2 T) [W] ([3], the rating to buy);
+    resistor's required capacity W_K = E_K / (0.2 T) [W] ([Yaskawa sec. 12.8.6], the rating to buy);
     ``resistor_power`` its average power E_K / T over the cycle [W] (not a rating);
     ``resistor_peak_power`` [W]; ``resistance_max`` [ohm] the largest resistance that still
     takes the peak power at the chopper voltage (None without it).
@@ -601,7 +605,7 @@ def capacitor_energy(capacitance: float, bus_voltage: float, chopper_voltage: fl
 
     Notes
     -----
-    [3]: the regenerative energy a SERVOPACK can absorb without a resistor. U_dc is the
+    [Yaskawa sec. 12.8.6]: the regenerative energy a SERVOPACK can absorb without a resistor. U_dc is the
     bus voltage at rest (about sqrt(2) x the mains voltage), U_max the voltage at which
     the braking chopper switches the resistor in.
 
@@ -630,7 +634,7 @@ def regeneration(duty: CycleDuty, stored: float | None = None, efficiency: float
 
     Notes
     -----
-    [3]; W_K (step 6) is the capacity to buy: a resistor is rated for a 20 % utilized load
+    [Yaskawa sec. 12.8.6]; W_K (step 6) is the capacity to buy: a resistor is rated for a 20 % utilized load
     ratio (:data:`RESISTOR_LOAD_RATIO`), so W_K is five times the average power. T is the
     motor's electromagnetic torque, so T omega already has the motor's
     modelled losses (b_M omega^2), the gearbox's back-driven efficiency and the friction

@@ -2,14 +2,14 @@
 
 References:
 
-[1] Shigley's Mechanical Engineering Design (9th ed.), Section 17-1, eq. (17-1): wrap
-    angles theta_d = pi -/+ 2 asin((D - d) / (2 C)) and the exact open-belt length
-    L = sqrt(4 C^2 - (D - d)^2) + (D theta_D + d theta_d) / 2.
-[2] Tsubakimoto, technical data, synchronous belts, "Official list" (formula sheet): the
-    approximate belt length L = 2 C + 1.57 (D + d) + (D - d)^2 / (4 C), its inverse, and
-    z_m = N Phi / 360 deg.
-[3] BRECO/BRECOFLEX design pages (belt-pilot.com, id=1702): teeth in mesh
-    z_e = z_1 alpha_1 / 360 deg, capped at z_e max (see :func:`beltcalc.belt.teeth_in_mesh`).
+[Shigley] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed.,
+    McGraw-Hill (2011): wrap angles theta_d = pi -/+ 2 asin((D - d) / (2 C)) and the exact
+    open-belt length L = sqrt(4 C^2 - (D - d)^2) + (D theta_D + d theta_d) / 2
+    [Shigley eq. 17-1].
+[Tsubaki belts] Tsubakimoto Chain, technical data, synchronous belts, "Official list"
+    [Tsubaki belts formula sheet]: the approximate belt length
+    L = 2 C + 1.57 (D + d) + (D - d)^2 / (4 C), its inverse, and z_m = N Phi / 360 deg.
+[BRECO] BRECO/BRECOFLEX timing-belt design pages (belt-pilot.com, id=1702): L = z_B P.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def open_belt_angle(small: float, large: float, center_distance: float) -> float
     .. math:: \beta = \arcsin\frac{d_2 - d_1}{2 a}
 
     d_1, d_2 pitch diameters [m] (either order: the sign follows d_2 - d_1), a centre
-    distance [m]. Ref. [1], eq. (17-1). Valid while the pulleys do not overlap.
+    distance [m]. [Shigley eq. 17-1]. Valid while the pulleys do not overlap.
 
     >>> open_belt_angle(0.1, 0.1, 0.5)
     0.0
@@ -53,7 +53,7 @@ def wrap_angles(small: float, large: float, center_distance: float) -> tuple[flo
 
     .. math:: \alpha_1 = \pi - 2\beta, \quad \alpha_2 = \pi + 2\beta
 
-    Ref. [1], eq. (17-1) (theta_d, theta_D).
+    [Shigley eq. 17-1] (theta_d, theta_D).
 
     >>> [round(math.degrees(x), 3) for x in wrap_angles(0.1, 0.3, 0.5)]
     [156.926, 203.074]
@@ -67,7 +67,7 @@ def span_length(small: float, large: float, center_distance: float) -> float:
 
     .. math:: s = a \cos\beta = \tfrac12 \sqrt{4 a^2 - (d_2 - d_1)^2}
 
-    Ref. [1], eq. (17-1), first term.
+    [Shigley eq. 17-1], first term.
 
     >>> round(span_length(0.1, 0.3, 0.5), 6)
     0.489898
@@ -80,7 +80,7 @@ def belt_pitch_length(small: float, large: float, center_distance: float) -> flo
 
     .. math:: L = 2 a \cos\beta + \frac{\pi}{2}(d_1 + d_2) + \beta (d_2 - d_1)
 
-    d_1, d_2 pitch diameters [m], a centre distance [m]. Ref. [1], eq. (17-1): two
+    d_1, d_2 pitch diameters [m], a centre distance [m]. [Shigley eq. 17-1]: two
     tangent spans plus the arcs d_1 alpha_1 / 2 and d_2 alpha_2 / 2. Equal pulleys give
     2 a + pi d.
 
@@ -100,7 +100,7 @@ def center_distance_approx(small: float, large: float, length: float) -> float:
     .. math:: B = L - \frac{\pi}{2}(d_1 + d_2), \quad
               a \approx \frac{B + \sqrt{B^2 - 2 (d_2 - d_1)^2}}{4}
 
-    Ref. [2] (Tsubaki prints 1.57 for pi/2). It inverts L = 2a + pi (d1+d2)/2 +
+    [Tsubaki belts formula sheet] (Tsubaki prints 1.57 for pi/2). It inverts L = 2a + pi (d1+d2)/2 +
     (d2-d1)^2/(4a), which drops terms of order beta^4; it is the start of the exact
     back-solve :func:`center_distance_for_length`.
 
@@ -123,7 +123,7 @@ def center_distance_for_length(small: float, large: float, length: float) -> flo
     increasing on a > (d_1 + d_2)/2 and the root is unique. Newton's method from the
     approximate formula of :func:`center_distance_approx`, safeguarded by bisection on
     the bracket [(d_1 + d_2)/2, L/2], at most ``MAX_ITERATIONS`` steps; converged when the
-    step is below 1e-15 of a. Ref. [1] eq. (17-1) for L(a).
+    step is below 1e-15 of a. [Shigley eq. 17-1] for L(a).
 
     >>> L = belt_pitch_length(0.1, 0.3, 0.5)
     >>> abs(center_distance_for_length(0.1, 0.3, L) - 0.5) < 1e-14
@@ -163,7 +163,7 @@ def center_distance_for_length(small: float, large: float, length: float) -> flo
 def belt_teeth(length: float, pitch: float) -> float:
     r"""Teeth on a belt of pitch length L: :math:`z_B = L / P` [-] (not rounded).
 
-    Ref. [2] / BRECO formula sheets (L = z_B P).
+    [Tsubaki belts formula sheet], [BRECO formula sheet] (L = z_B P).
 
     >>> belt_teeth(2.88, 0.010)
     288.0
@@ -220,7 +220,7 @@ def linear_axis_geometry(center_distance: float, pulley_diameter: float, carriag
 
     a centre distance, d pulley pitch diameter, l_c the carriage length between the clamp
     points, l_clamp the belt length held in each clamp, s the stroke, centred in the free
-    travel a - l_c. Ref. [1] eq. (17-1) with beta = 0 (equal pulleys: spans a, arcs pi d / 2).
+    travel a - l_c. [Shigley eq. 17-1] with beta = 0 (equal pulleys: spans a, arcs pi d / 2).
 
     >>> g = linear_axis_geometry(1.245, 0.1273, 0.2, 0.8, 0.05)
     >>> round(g.pitch_length, 5), round(g.belt_length, 5), round(g.span_min, 4), round(g.span_max, 4)

@@ -5,8 +5,14 @@ Criteria (DESIGN.md 2.5): peak torque <= T_max / (1 + margin), RMS torque <= T_n
 peak speed <= n_max, load/motor inertia ratio <= limit (10: Parker's guidance for
 servos). Among the motors that pass, the smallest (lowest rated torque) that runs at
 50-100 % of its rated torque is preferred, because motors are efficient there
-(Wojtkowiak et al. 2021, section 1 and 4, after McCoy & Douglass 1996); if none runs in
-that band the smallest that passes is chosen and the report says so.
+([W21 sec. 1, 4], after McCoy & Douglass 1996); if none runs in that band the smallest
+that passes is chosen and the report says so.
+
+References:
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317.
 """
 
 from __future__ import annotations

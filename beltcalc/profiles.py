@@ -9,11 +9,13 @@ energies carry no discretisation error.
 
 References
 ----------
-[1] L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots,
-    Springer 2008, section 3.4 ("trajectory with double S velocity profile"),
-    eq. (3.19)-(3.33), here for a rest-to-rest move (v0 = v1 = 0) with equal acceleration
-    and deceleration limits.
-[2] Wojtkowiak et al., Energies 14 (2021) 317, Fig. 9-12 (the trapezoid).
+[BM08] L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots,
+    Springer (2008): the trajectory with double S velocity profile [BM08 sec. 3.4],
+    [BM08 eq. 3.19-3.33], here for a rest-to-rest move (v0 = v1 = 0) with equal
+    acceleration and deceleration limits.
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: the trapezoid [W21 Fig. 9-12].
 """
 
 from __future__ import annotations
@@ -104,7 +106,7 @@ def trapezoid(speed: float, accel: float, stroke: float, dwell: float = 0.0) -> 
 
     Notes
     -----
-    The motion law of Wojtkowiak et al. 2021, Fig. 9-12 (accelerate, cruise, decelerate).
+    The motion law of [W21 Fig. 9-12] (accelerate, cruise, decelerate).
 
     Examples
     --------
@@ -195,7 +197,7 @@ def scurve(speed: float, accel: float, jerk: float, stroke: float, dwell: float 
     r"""Jerk-limited (double-S, 7-phase) rest-to-rest move over ``stroke`` radians.
 
     With :math:`T_j` the jerk time, :math:`T_a` the acceleration time (jerk phases
-    included) and :math:`T_v` the cruise ([1], eq. 3.19-3.33 with v0 = v1 = 0):
+    included) and :math:`T_v` the cruise ([BM08 eq. 3.19-3.33] with v0 = v1 = 0):
 
     .. math::
         T_j = a_{max}/j_{max},\quad T_a = T_j + v_{max}/a_{max}
@@ -223,8 +225,8 @@ def scurve(speed: float, accel: float, jerk: float, stroke: float, dwell: float 
 
     Notes
     -----
-    Biagiotti & Melchiorri 2008, section 3.4 (double S velocity profile), case
-    v0 = v1 = 0, a_max = d_max. The area under the speed is the stroke in every case.
+    [BM08 sec. 3.4] (double S velocity profile), case v0 = v1 = 0, a_max = d_max. The area
+    under the speed is the stroke in every case.
 
     Examples
     --------
@@ -275,8 +277,8 @@ def move_by_time(stroke: float, move_time: float, accel_fraction: float = 1.0 / 
 
     Notes
     -----
-    The area under a symmetric double-S speed curve is v (T - T_a) (Biagiotti &
-    Melchiorri 2008, eq. 3.25 with v0 = v1 = 0 and T = T_a + T_v + T_d, T_d = T_a).
+    The area under a symmetric double-S speed curve is v (T - T_a) ([BM08 eq. 3.25] with
+    v0 = v1 = 0 and T = T_a + T_v + T_d, T_d = T_a).
 
     Examples
     --------

@@ -2,8 +2,13 @@
 
 References:
 
-[1] Wojtkowiak et al., Energies 14 (2021) 317, eq. (13).
-[2] VDI 2230 Part 1 (2015), tightening torque M_A = F (0.16 P + 0.58 d2 mu_G + mu_K D_Km / 2).
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: [W21 eq. 13].
+[VDI 2230] VDI 2230 Part 1 (2015), Systematic calculation of highly stressed bolted joints:
+    tightening torque M_A = F (0.16 P + 0.58 d2 mu_G + mu_K D_Km / 2).
+[Shigley] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed.,
+    McGraw-Hill (2011): thread friction.
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ def lead_angle(pitch: float, pitch_diameter: float) -> float:
 
     Notes
     -----
-    Eq. (13) of [1].
+    [W21 eq. 13].
 
     Examples
     --------
@@ -49,7 +54,7 @@ def friction_angle(mu: float, flank_angle: float = math.radians(60.0)) -> float:
 
     Notes
     -----
-    Eq. (13) of [1]. Typical mu 0.08-0.2 for steel threads (Shigley), 0.15 typical.
+    [W21 eq. 13]. Typical mu 0.08-0.2 for steel threads [Shigley], 0.15 typical.
 
     Examples
     --------
@@ -100,7 +105,7 @@ def bolt_torque(force: float, pitch: float, pitch_diameter: float, mu: float,
 
     Notes
     -----
-    Thread term: eq. (13) of [1]. Bearing-face term: VDI 2230 [2]; the paper leaves it
+    Thread term: [W21 eq. 13]. Bearing-face term: [VDI 2230]; the paper leaves it
     out, which is right only for a bolt that bears on a thrust bearing.
     Valid while gamma + rho' < 90 deg (otherwise the thread cannot be turned).
 

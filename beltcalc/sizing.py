@@ -5,6 +5,15 @@ Composes :mod:`beltcalc.belt` (substitute belt mass), :mod:`beltcalc.drive` (the
 regeneration) and :mod:`beltcalc.motors` (choice). One implementation: :func:`size_cycle`;
 :func:`size_axis` (the public API) calls it, and :func:`sweep` uses the same exact cycle
 duty. SI floats only.
+
+References:
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: the energy of the acceleration phase [W21 eq. 29] and its
+    sweeps [W21 Fig. 13-15].
+[BM08] L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots,
+    Springer (2008): the S-curve (see :mod:`beltcalc.profiles`).
 """
 
 from __future__ import annotations
@@ -228,7 +237,7 @@ def size_axis(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor: 
 class SweepPoint:
     """One point of a sweep: the swept ``value`` (in the sweep's unit), the move at the motor
     shaft, and its duty with one motor (or the load alone), SI: peak and RMS torque [N m],
-    acceleration time t_a [s], eq. 29's E = T_max w_max t_a and the exact integral of T w
+    acceleration time t_a [s], E = T_max w_max t_a [W21 eq. 29] and the exact integral of T w
     over the acceleration [J]."""
 
     value: float
@@ -252,7 +261,7 @@ SWEEPABLE = {"accel": "accel", "speed": "speed"}
 
 def sweep(inp: SizingInputs, belt: BeltProfile, motor: Motor | None, name: str,
           values: Iterable[float], unit: str, progress: Callable[[], None] | None = None) -> list[SweepPoint]:
-    """Duty of one motor over a range of ``accel`` or ``speed`` (the paper's Fig. 13-15), by
+    """Duty of one motor over a range of ``accel`` or ``speed`` [W21 Fig. 13-15], by
     the same exact cycle duty as :func:`size_cycle` (the single move and its dwell); with
     ``motor`` None the load alone (no rotor, no motor loss).
 
@@ -283,11 +292,11 @@ def sweep(inp: SizingInputs, belt: BeltProfile, motor: Motor | None, name: str,
 
 def energy_eq29_closed_form(inertia: float, damping: float, resistance_torque: float,
                             speed: float, accel: float) -> float:
-    r"""Eq. 29 with these models, in closed form [J].
+    r"""[W21 eq. 29] with these models, in closed form [J].
 
     .. math:: E(\varepsilon) = J \omega^2 + (b \omega + T_R) \omega^2 / \varepsilon
 
-    It falls with the acceleration towards J omega^2 (the paper's Fig. 14).
+    It falls with the acceleration towards J omega^2 [W21 Fig. 14].
 
     >>> energy_eq29_closed_form(0.01, 0.001, 0.5, 100.0, 1000.0)
     106.0
@@ -488,10 +497,10 @@ def out_and_back(profile: Trapezoid, dwell: float, incline: float) -> tuple[Segm
 
 def jerk_limited(segments, k: float) -> list[str]:
     """Notes on the moves whose jerk limit keeps them below the acceleration asked (an
-    S-curve whose acceleration phase never reaches ``accel``, Biagiotti & Melchiorri 2008,
-    section 3.4: when v j < a^2 the speed is reached first, a_lim = sqrt(v j); when the
-    stroke is too short, theta < 2 a^3 / j^2, neither is reached). ``k`` [m/rad] converts the
-    motor's acceleration to the carriage's.
+    S-curve whose acceleration phase never reaches ``accel``, [BM08 sec. 3.4]: when
+    v j < a^2 the speed is reached first, a_lim = sqrt(v j); when the stroke is too short,
+    theta < 2 a^3 / j^2, neither is reached). ``k`` [m/rad] converts the motor's acceleration
+    to the carriage's.
 
     >>> from beltcalc.profiles import scurve
     >>> jerk_limited([Segment("move", "move", profile=scurve(100.0, 1000.0, 2000.0, 500.0))], 0.01)[0][:57]
@@ -610,7 +619,7 @@ def move_energy(segments, duty) -> tuple[float, float, float]:
 
     .. math:: E_{29} = T_{max}\,\omega_{max}\,t_a, \qquad E_{exact} = \int_{0}^{t_a} T \omega \, dt
 
-    Eq. (29) of Wojtkowiak et al. 2021 with T_max the cycle's peak torque, beside the exact
+    [W21 eq. 29] with T_max the cycle's peak torque, beside the exact
     integral of the power over the move's acceleration phases (a polynomial per piece).
     """
     from beltcalc.dutycycle import poly_integral, poly_mul

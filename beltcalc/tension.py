@@ -2,7 +2,15 @@
 pretension it needs, the tensioner bolt torque and the span frequency to check it with.
 
 This composes :mod:`beltcalc.belt` and :mod:`beltcalc.screw` with catalog data
-(Wojtkowiak et al., Energies 14 (2021) 317, section 3). SI floats only.
+[W21 sec. 3]. SI floats only.
+
+References:
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317.
+[VDI 2230] VDI 2230 Part 1 (2015), Systematic calculation of highly stressed bolted joints:
+    the bearing-face term of the tightening torque (see :mod:`beltcalc.screw`).
 """
 
 from __future__ import annotations
@@ -28,7 +36,7 @@ class TensionInputs:
     damping fit), span_length [m] (for the span frequency; default the center
     distance), stiffness [N/m] (overrides C_spec / a), f_tadm [N], c_spec [N],
     belt_weight [kg/m] (override the catalog row), bearing_friction [-] and
-    bearing_diameter [m] (VDI 2230 bearing-face term; 0 leaves it out).
+    bearing_diameter [m] ([VDI 2230] bearing-face term; 0 leaves it out).
     """
 
     center_distance: float
@@ -162,8 +170,8 @@ def belt_damping(inp: TensionInputs, belt: BeltProfile, teeth: float) -> tuple[f
 def design_tension(inp: TensionInputs, belt: BeltProfile, thread: Thread) -> TensionReport:
     """Substitute model, pretension, bolt torque and span frequency of one belt width.
 
-    Eq. (7), (10)-(16) of Wojtkowiak et al. 2021 (see :mod:`beltcalc.belt`) and eq. (13)
-    (see :mod:`beltcalc.screw`).
+    [W21 eq. 7, 10-16] (see :mod:`beltcalc.belt`) and [W21 eq. 13] (see
+    :mod:`beltcalc.screw`).
 
     >>> from beltcalc.catalogs import load_catalog
     >>> cat = load_catalog()
@@ -256,7 +264,7 @@ def select_width(inp: TensionInputs, belt: BeltProfile, thread: Thread,
                  safety_factor: float = 1.0) -> TensionReport:
     """The narrowest catalog width whose F_Tadm covers ``safety_factor`` * F_t,peak.
 
-    The belt selection of Fig. 5 of Wojtkowiak et al. 2021, on the tension of eq. (10).
+    The belt selection of [W21 Fig. 5], on the tension of [W21 eq. 10].
     Each width is designed in full, since m_TB and a fitted b_TB depend on it.
 
     >>> from beltcalc.catalogs import load_catalog

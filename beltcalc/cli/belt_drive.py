@@ -1,4 +1,12 @@
-"""``beltcalc belt-drive``: belt length, centre distance, teeth in mesh and the capacity checks."""
+"""``beltcalc belt-drive``: belt length, centre distance, teeth in mesh and the capacity checks.
+
+References (in the options' help):
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317.
+[Tsubaki belts] Tsubakimoto Chain, technical data, synchronous belts.
+"""
 
 from __future__ import annotations
 
@@ -35,7 +43,7 @@ from beltcalc.cli.output import Row, dumps, emit_warnings, print_table, strict_o
 @quantity_option("--pretension", si_unit="N", help="Installation tension F_v [default: the manufacturers' rule].")
 @quantity_option("--service-factor", si_unit="", help="Service factor c2 [default: from the Tsubaki tables].")
 @click.option("--load", type=click.Choice(["smooth", "moderate", "heavy"]), default="moderate", show_default=True,
-              help="Kind of load for the service factor (Tsubaki Table 1).")
+              help="Kind of load for the service factor [Tsubaki belts table 1].")
 @quantity_option("--hours", si_unit="", default="8", help="Operating hours per day (service factor).")
 @quantity_option("--peak-ratio", si_unit="", default="2", help="Motor peak output / rated output (service factor).")
 @quantity_option("--starts-per-day", si_unit="", default="10", help="Starts and stops per day (service factor).")
@@ -45,8 +53,9 @@ from beltcalc.cli.output import Row, dumps, emit_warnings, print_table, strict_o
 @quantity_option("--stroke", si_unit="m", display="mm", help="Stroke of a linear axis [default: the whole free travel].")
 @quantity_option("--carriage-length", si_unit="m", display="mm", default="0 mm", help="Carriage length between the belt clamps.")
 @quantity_option("--clamp-allowance", si_unit="m", display="mm", default="0 mm", help="Belt length held in each clamp.")
-@quantity_option("--tension-accel", si_unit="m/s^2", default="0.1 m/s^2", help="Tensioning acceleration (eq. 10).")
-@quantity_option("--tension-speed", si_unit="m/s", default="5 mm/s", help="Tensioning speed (eq. 10).")
+@quantity_option("--tension-accel", si_unit="m/s^2", default="0.1 m/s^2",
+                 help="Tensioning acceleration [W21 eq. 10].")
+@quantity_option("--tension-speed", si_unit="m/s", default="5 mm/s", help="Tensioning speed [W21 eq. 10].")
 @quantity_option("--f-tspec", si_unit="N/m", help="Specific tooth load at the running speed (e.g. 36.4N/cm), instead of the catalog table.")
 @catalog_option
 @output_options

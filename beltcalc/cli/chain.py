@@ -1,4 +1,10 @@
-"""``beltcalc chain``: roller-chain selection, sprocket geometry, chain length, safety."""
+"""``beltcalc chain``: roller-chain selection, sprocket geometry, chain length, safety.
+
+References:
+
+[Shigley] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed.,
+    McGraw-Hill (2011): the command's default drive, [Shigley Example 17-5].
+"""
 
 from __future__ import annotations
 
@@ -39,7 +45,7 @@ def chain(ctx, power, torque, speed, teeth, teeth_large, service_factor, design_
           links, series, strands, chain_name, catalog_paths, as_json, csv_path, strict):
     """Roller-chain selection by the ACA power-rating formulas, with ISO 606 sprockets.
 
-    With no options: Shigley's Example 17-5 (90 hp at 300 rev/min, 17/34 teeth, K_s = 1.3,
+    With no options: [Shigley Example 17-5] (90 hp at 300 rev/min, 17/34 teeth, K_s = 1.3,
     n_d = 1.5, C/p = 25): 1 strand no. 200, 2 strands no. 160, 3 and 4 strands no. 140;
     3 strands of no. 140 chosen, 76 links.
     """

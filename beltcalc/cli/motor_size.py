@@ -1,4 +1,11 @@
-"""``beltcalc motor-size``: reflected inertia, torque, energy and motor choice of a belt axis."""
+"""``beltcalc motor-size``: reflected inertia, torque, energy and motor choice of a belt axis.
+
+References (in the options' help):
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317.
+"""
 
 from __future__ import annotations
 
@@ -52,7 +59,7 @@ def _sweep_spec(text: str | None):
                    "the table lists what the axis takes from it. 'none': no scene, every value an option.")
 @scene_options(PARAMS)
 @click.option("--substitute-mass-model", type=click.Choice(["eq7", "rayleigh"]), default="eq7", show_default=True,
-              help="m_TB by the paper's eq. 7, or the Rayleigh m_belt/3.")
+              help="m_TB by [W21 eq. 7], or the Rayleigh m_belt/3.")
 @quantity_option("--jerk", si_unit="rad/s^3|m/s^3",
                  help="Jerk limit: the move becomes a 7-phase S-curve (at the motor 1e5rad/s^3 or the carriage 200m/s^3).")
 @quantity_option("--move-time", si_unit="s",
@@ -91,7 +98,7 @@ def _sweep_spec(text: str | None):
 @click.option("--motors", "motor_files", default=None,
               help="Choose only among the motors of this catalog file (e.g. yaskawa).")
 @click.option("--sweep", "sweep_text", default=None, metavar="NAME=START:STOP:N",
-              help="Sweep accel or speed, e.g. accel=100rad/s^2:1000rad/s^2:10 (the paper's Fig. 13-15).")
+              help="Sweep accel or speed, e.g. accel=100rad/s^2:1000rad/s^2:10 ([W21 Fig. 13-15]).")
 @click.option("--plot", "plot_path", type=OutputPath(), default=None,
               help="Write a plot (PNG, PDF or SVG, as the suffix names): torque and speed over the cycle and the cycle's points over the motor's "
                    "torque-speed zones, or the sweep's curves (needs matplotlib).")

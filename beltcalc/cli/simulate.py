@@ -5,6 +5,14 @@ parses its options, resolves the scene's values, calls the library once (a run, 
 or every method side by side) and renders the outcome as a table, ``--json``, ``--csv``
 or ``--plot``. A scene's value named in an error is the option that sets it (``--set
 NAME``, or ``--t-end``/``--samples``/``--window``/``--dt``).
+
+References (the scenes' papers, in the commands' help):
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016).
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317.
 """
 
 from __future__ import annotations
@@ -504,7 +512,7 @@ def _sewing_command() -> click.Command:
         """The sewing-machine drive of Mamatova et al. (2016): speed, acceleration and torque of the
         main and bottom shafts over a steady window of whole load periods, and in the exact
         periodic steady state; how it was solved. Sweep e.g. --sweep C4=50N*m/rad:310N*m/rad:14 (the paper's
-        Fig. 5), with --steady-state-only for the exact steady state alone."""
+        [M16 Fig. 5]), with --steady-state-only for the exact steady state alone."""
         run_command(SCENES["sewing"], options={"angle_loads": angle_loads, "steady_state_only": steady_state_only},
                     **kw)
 
@@ -532,17 +540,18 @@ def _linear_axis_command() -> click.Command:
     @click.command("linear-axis")
     @common_options(SCENES["linear-axis"])
     @click.option("--belt-model", type=click.Choice(["substitute", "chain"]), default=None,
-                  help="substitute: eq. 5-9, one spring-damper-mass; chain: eq. 1, z - 1 units [default: the scene's].")
+                  help="substitute: [W21 eq. 5-9], one spring-damper-mass; chain: [W21 eq. 1], z - 1 units "
+                       "[default: the scene's].")
     @click.option("--drive", type=click.Choice(["prescribed", "speed-loop"]), default=None,
                   help="prescribed: the motor follows the move; speed-loop: feed-forward + speed gain [default: the "
                        "scene's].")
     @click.option("--substitute-mass-model", type=click.Choice(["eq7", "rayleigh"]), default="eq7", show_default=True,
-                  help="m_TB by eq. 7 or Rayleigh's m/3.")
+                  help="m_TB by [W21 eq. 7] or Rayleigh's m/3.")
     @click.option("--motor", "motor_name", default=None, help="Motor to simulate [default: motor-size's choice].")
     @catalog_option
     def linear_axis(belt_model, drive, substitute_mass_model, motor_name, catalog_paths, **kw):
         """A timing-belt linear axis as a dynamic model (Wojtkowiak et al. 2021, WDU axis): the belt
-        as the substitute spring-damper-mass of `beltcalc tension` (or the paper's eq. 1 chain),
+        as the substitute spring-damper-mass of `beltcalc tension` (or the chain of [W21 eq. 1]),
         the motor on the move of `beltcalc motor-size`. Belt force against the pretension,
         following error, residual vibration, motor torque against the rigid answer."""
         run_command(SCENES["linear-axis"], preset={"belt_model": belt_model, "drive": drive},

@@ -1,4 +1,12 @@
-"""``beltcalc tension``: belt substitute model, pretension, bolt torque, span frequency."""
+"""``beltcalc tension``: belt substitute model, pretension, bolt torque, span frequency.
+
+References (in the options' help and the table's notes):
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317.
+[VDI 2230] VDI 2230 Part 1 (2015), Systematic calculation of highly stressed bolted joints.
+"""
 
 from __future__ import annotations
 
@@ -28,7 +36,7 @@ from beltcalc.cli.output import (Row, dumps, emit_warnings, print_table, rows_cs
                  help="Belt damping b_TB. Default: fitted to the catalog's F_tspec(n), else the catalog's value.")
 @quantity_option("--pulley-diameter", si_unit="m", display="mm", default="128 mm", help="Pulley pitch diameter D for the damping fit.")
 @click.option("--substitute-mass-model", type=click.Choice(["eq7", "rayleigh"]), default="eq7",
-              show_default=True, help="m_TB by the paper's eq. 7, or the Rayleigh m_belt/3.")
+              show_default=True, help="m_TB by [W21 eq. 7], or the Rayleigh m_belt/3.")
 @quantity_option("--stiffness", si_unit="N/m", help="Belt stiffness k_TB, instead of C_spec / a.")
 @quantity_option("--f-tadm", si_unit="N", help="Allowable belt tension F_Tadm, instead of the catalog's.")
 @quantity_option("--c-spec", si_unit="N", help="Specific belt stiffness C_spec, instead of the catalog's.")
@@ -36,7 +44,7 @@ from beltcalc.cli.output import (Row, dumps, emit_warnings, print_table, rows_cs
 @click.option("--thread", default="M10x1", show_default=True, help="Tensioner bolt thread from the catalogs.")
 @quantity_option("--mu", si_unit="", default="0.2", help="Thread friction coefficient, in (0, 1).")
 @quantity_option("--bearing-friction", si_unit="", default="0",
-                 help="Friction coefficient under the bolt head (VDI 2230); 0 leaves the term out.")
+                 help="Friction coefficient under the bolt head [VDI 2230]; 0 leaves the term out.")
 @quantity_option("--bearing-diameter", si_unit="m", display="mm", help="Effective friction diameter D_Km under the bolt head.")
 @quantity_option("--span-length", si_unit="m", display="mm", help="Free span length for the span frequency [default: center distance].")
 @catalog_option
@@ -101,7 +109,7 @@ def tension(ctx, belt, width, select_width, safety_factor, center_distance, mass
 
 def bolt_note(force: float) -> str:
     """What the bolt torque leaves out when no bearing-face friction is given."""
-    example = force * 0.15 * 0.015 / 2    # VDI 2230 term with the README's example mu_K, D_Km
+    example = force * 0.15 * 0.015 / 2    # [VDI 2230] term with the README's example mu_K, D_Km
     return ("thread friction only (eq. 13 of the paper); tightening a bolt also turns its head or nut on its "
             "bearing face, F mu_K D_Km / 2 more (VDI 2230): give --bearing-friction and --bearing-diameter "
             f"(e.g. 0.15 and 15 mm add {example:.3g} N m here)")

@@ -20,12 +20,17 @@ Length gradient. Moving one circle's centre changes the loop length by
 the arcs take up exactly the tangent points' motion. For an idler wrapped by an angle
 beta, ``|u_in - u_out| = 2 sin(beta / 2)``.
 
-The eccentric roller (Mamatova et al. 2016, Fig. 2; their eq. 3-4 are garbled, so the
+The eccentric roller ([M16 Fig. 2]; their [M16 eq. 3-4] are garbled, so the
 model is derived here, not typed): a disc of radius r3 turning about a pivot P offset by
 Delta from its centre, ``C(theta) = P + Delta (cos theta, sin theta)``, rolling on the
 slack span, so ``theta = theta_0 - r1 phi_1 / r3`` (a back-side idler turns clockwise while
 the motor pulley turns counter-clockwise). The loop length ``L(theta)`` then varies by
 ``delta(theta) = L(theta) - L(theta_0)``; see :func:`eccentric_ratio` for the ratio it gives.
+
+References:
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016).
 """
 
 from __future__ import annotations

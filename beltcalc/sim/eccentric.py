@@ -1,6 +1,6 @@
 r"""The element kind "eccentric belt": a belt drive whose ratio varies with an eccentric tension
-roller on its slack span (Mamatova et al. 2016, Fig. 2 and eq. 1; the model derived in
-``docs/eccentric_roller.md``, not typed from their garbled eq. 3-4).
+roller on its slack span ([M16 Fig. 2] and [M16 eq. 1]; the model derived in
+``docs/eccentric_roller.md``, not typed from their garbled [M16 eq. 3-4]).
 
 Two elastic spans of stiffness k = C / (2 r1^2) (damping b = d / (2 r1^2)) join the motor
 pulley ``i`` (radius r1) and the driven rim ``j`` (radius r2); the roller's path stretch
@@ -30,6 +30,12 @@ exactly (:mod:`beltcalc.sim.beltpath`) at ``HARMONICS`` x 4 angles and held as i
 series, so L, L' and L'' cost a few vector operations over any number of states.
 :func:`refuse` turns away a geometry the model cannot hold (the pivot outside the roller, the
 roller on a pulley or through the tight span, the belt leaving the roller), each with its cause.
+
+References:
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
+    eccentric tension roller.
 """
 
 from __future__ import annotations

@@ -11,6 +11,14 @@ from one Hessenberg reduction of A and a banded solve per frequency: never a loo
 inverses. The periodic steady state solves the same systems at each input frequency; the
 mean solves A a = -B_0 with A's rigid-body null space split off (a drive that turns
 steadily has a zero eigenvalue: its angle grows as Omega t).
+
+References:
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
+    induction motor's dynamic characteristic.
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission": the chain strands.
 """
 
 from __future__ import annotations
@@ -131,8 +139,7 @@ def mode_shapes(net, taut: tuple[bool, ...] | None = None) -> list[ModeShape]:
 def input_column(net, name: str) -> np.ndarray:
     """B column of a named input: ``load:<node>`` (a torque [N m], or a force [N] on a
     translating node, acting *with* the motion) or ``supply:<motor>`` (the motor's
-    synchronous speed omega_0 [rad/s], eq. 2 of Mamatova et al.; ``supply`` alone for the
-    one motor)."""
+    synchronous speed omega_0 [rad/s], [M16 eq. 2]; ``supply`` alone for the one motor)."""
     col = np.zeros(net.size)
     kind, _, what = name.partition(":")
     if kind == "load" and what in net._node:

@@ -8,6 +8,12 @@ strands taut in it, constant and sinusoidal inputs after the last input change, 
 window) the same quantities in it, exactly (``steady_state``); else a note says why. A
 check says whether the start-up transient has decayed by the window's start (the slowest
 pole). SI floats only.
+
+References:
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
+    induction motor's characteristic [M16 eq. 2], which a start from rest without a ramp leaves.
 """
 
 from __future__ import annotations
@@ -104,7 +110,8 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
     reported.update({s: (0.0, w0) for s, _ in drive.motors})
     result = simulate(net, drive.t_end, drive.samples, cfg, watch=(watched, (0.0, w0), reported))
     checks = strand_check(net, result, drive.limits, None) + damping_fit_check(drive) + resonance_check(net, result, w0)
-    for m in net.motors:      # a start from rest without a ramp is outside eq. 2: its peak counts from the window
+    # a start from rest without a ramp is outside [M16 eq. 2]: its peak counts from the window
+    for m in net.motors:
         checks += motor_checks(result, f"M_{m.name}", m.breakdown_torque, w0, 0.0 if m.sync_table else w0,
                                speed=_speed(net, m.node))
     notes = list(drive.notes)

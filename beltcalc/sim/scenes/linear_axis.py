@@ -1,7 +1,7 @@
-"""A timing-belt linear axis as a dynamic model (Wojtkowiak et al. 2021): the motor side
-(motor rotor, gearbox, coupling, pulleys: one inertia at the motor shaft) joined to the
-carriage by the belt, either as the substitute spring-damper-mass of eq. 5-9 (k_TB, b_TB,
-m_TB) or as the paper's eq. 1 chain of z - 1 mass-spring-damper units in series. External
+"""A timing-belt linear axis as a dynamic model [W21]: the motor side (motor rotor,
+gearbox, coupling, pulleys: one inertia at the motor shaft) joined to the carriage by the
+belt, either as the substitute spring-damper-mass of [W21 eq. 5-9] (k_TB, b_TB, m_TB) or as
+the paper's chain of z - 1 mass-spring-damper units in series [W21 eq. 1]. External
 resistance F_R and guide friction act against the move; the motor either follows the
 motion profile exactly (an ideal servo, ``prescribed``) or is driven by the rigid
 feed-forward torque of ``motor-size`` plus a proportional speed loop (``speed-loop``).
@@ -18,6 +18,13 @@ The motor's peak and RMS torque and the belt force's extremes are computed off t
 solution (:func:`exact_signals`), not from the output samples: the prescribed acceleration
 is right-continuous, so a sample never sees the left limit at the end of a phase, where
 the torque peaks; ``motor-size``'s rigid peak takes both limits, and so does this one.
+
+References:
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: the WDU axis, its belt models [W21 eq. 1-9] and the
+    rigidity condition [W21 eq. 10-11].
 """
 
 from __future__ import annotations
@@ -104,7 +111,7 @@ class AxisModel:
 
     @property
     def chain_units(self) -> int:
-        """Mass-spring-damper units of the eq. 1 chain: the whole pitches on the span, z - 1
+        """Mass-spring-damper units of the chain of [W21 eq. 1]: the whole pitches on the span, z - 1
         rounded down (124 for the WDU axis, z = 125.5)."""
         return max(1, int(math.floor(self.teeth - 1 + 1e-9)))
 
@@ -188,7 +195,7 @@ def drive_data(model: AxisModel, substitute_mass: float | None = None, stiffness
     else:
         n = model.chain_units
         unit_mass = model.belt_mass / n
-        kk, bb = n * k, n * b                 # eq. 8-9: k' = (z - 1) k_TB, b' = (z - 1) b_TB
+        kk, bb = n * k, n * b                 # [W21 eq. 8-9]: k' = (z - 1) k_TB, b' = (z - 1) b_TB
         names = [f"tooth{j}" for j in range(2, n + 1)] + ["carriage"]
         nodes += [dict(name=name, mass=unit_mass) for name in names[:-1]]
         nodes.append(dict(name="carriage", mass=ax.mass + unit_mass))
@@ -544,7 +551,7 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     phases = tuple(ph for ph in move.phases if ph.name != "dwell") + ((Phase("dwell", dwell, 0.0, 0.0),)
                                                                       if dwell > 0 else ())
     profile = replace(move, dwell=dwell, phases=phases)
-    # a_max of the rigidity condition (eq. 11): the largest acceleration the move reaches
+    # a_max of the rigidity condition [W21 eq. 11]: the largest acceleration the move reaches
     accel = max(max(abs(ph.accel), abs(ph.accel1)) for ph in phases) * sizing.axis.carriage_per_motor()
     tin = replace(tension_inputs, center_distance=inp.center_distance, width=inp.width, mass=inp.mass,
                   accel=accel, pulley_diameter=sizing.axis.pulley_diameter,

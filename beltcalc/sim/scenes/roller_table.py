@@ -1,13 +1,13 @@
-"""The roller-table drive of Rusek & Popenda as a network: induction motor -> elastic
-coupling -> two-stage gear reducer -> gear output shaft and clutch in series (eq. 3) ->
-driving sprocket -> chain strands, tension only (eq. 8-11) -> roller sprockets (and idler
+"""The roller-table drive of [RP] as a network: induction motor -> elastic coupling ->
+two-stage gear reducer -> gear output shaft and clutch in series [RP eq. 3] -> driving
+sprocket -> chain strands, tension only [RP eq. 8-11] -> roller sprockets (and idler
 sprockets) -> each roller: a shaft to its drive end, the tube to its far end, a load torque
 at each end. Assembled from the components (Lagrange with Rayleigh dissipation in
-:mod:`beltcalc.sim.network`), not typed from the paper's eq. 14-15. SI floats only.
+:mod:`beltcalc.sim.network`), not typed from the paper's [RP eq. 14-15]. SI floats only.
 
 Routing (``routing``):
 
-- ``serpentine`` (the paper's Fig. 1): one chain from the driving sprocket over roller 1,
+- ``serpentine`` ([RP Fig. 1]): one chain from the driving sprocket over roller 1,
   (an idler,) roller 2, ... roller n and back to the driving sprocket;
 - ``loops``: roller to roller, each pair of neighbours joined by its own chain loop (a
   tight and a slack strand), the first loop from the driving sprocket to roller 1.
@@ -24,6 +24,14 @@ given), as the drive files' ``chain_strand`` takes them. Chains publish no stiff
 The scene ``simulate roller-table`` (``catalogs/scenes/roller_table.toml``) reports per
 roller its speed and end torques, per strand its force extremes, time slack and safety,
 and the motor's torque and start-up time.
+
+References:
+
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission".
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
+    induction motor's linearised characteristic [M16 eq. 2].
 """
 
 from __future__ import annotations
@@ -150,7 +158,7 @@ def steady_speed(p: dict) -> float:
 
     In steady rotation every strand and shaft holds a constant twist, so the motor carries
     the roller loads through the ratios: :math:`M_m = n M_{roller} / i_{tot}`, and the
-    linearised characteristic (Mamatova et al., eq. 2) gives
+    linearised characteristic [M16 eq. 2] gives
     :math:`\omega_m = \omega_0 (1 - S_c M_m / (2 M_c))`; the rollers turn at
     :math:`\omega_m / i_{tot}`.
     """

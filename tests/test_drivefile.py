@@ -290,14 +290,82 @@ def test_prescribed_move_from_a_motor_size_profile_reaches_its_distance(tmp_path
     assert any("S-curve move" in n for n in d.notes)
 
 
-def test_the_format_reference_lists_every_key():
+def test_the_format_reference_is_generated_from_the_registry():
+    # docs/drive_files.md's key tables are the registry's (python -m beltcalc.sim.drivefile.docs)
     from beltcalc.sim.drivefile import KEYS
+    from beltcalc.sim.drivefile.docs import PAGE, render
 
-    doc = (builtin_dir().parent / "docs" / "drive_files.md").read_text(encoding="utf-8")
+    doc = PAGE.read_text(encoding="utf-8")
+    assert render(doc) == doc
     for section, keys in KEYS.items():
         assert (f"`[{section}]`" if section == "drive" else f"`[[{section}]]`") in doc
         for key in keys:
             assert f"| `{key}` |" in doc, (section, key)
+
+
+def test_a_stale_or_missing_key_table_is_found():
+    from beltcalc.sim.drivefile.docs import PAGE, main, render
+
+    doc = PAGE.read_text(encoding="utf-8")
+    stale = doc.replace("| `t_end` | s | yes | simulated time |", "| `t_end` | s |  | the run |")
+    assert stale != doc
+    assert render(stale) == doc
+    with pytest.raises(ValueError, match="no key table for load"):
+        render(doc.replace("<!-- keys: load -->", "<!-- keys: drive -->"))
+    with pytest.raises(ValueError, match="'gone', which is no section"):
+        render(doc.replace("<!-- keys: load -->", "<!-- keys: gone -->"))
+    assert main(["--check"]) == 0
+
+
+def test_a_new_kind_is_one_class_and_one_registry_line(tmp_path, monkeypatch):
+    # a kind of drive-file element of the test's own: a constant brake torque on a node. Its
+    # class declares the section, the keys and the build; one line of ELEMENTS makes drive
+    # files read it, check its keys, address its values and build it (a load against the
+    # motion: the free node decelerates at T / J)
+    from beltcalc.sim.drivefile.keys import Key
+    from beltcalc.sim.drivefile.kinds import Kind
+    from beltcalc.sim.drivefile.registry import ELEMENTS
+    from beltcalc.sim.elements import Load
+
+    class BrakeKind(Kind):
+        section = "brake"
+        node_key = "node"
+        keys = {"name": Key("text", "unique name"), "node": Key("text", "node it brakes", True),
+                "torque": Key("N*m|N", "braking torque", True, low=">=0")}
+
+        @classmethod
+        def build(cls, b, e):
+            b.add(Load(b.node_name(e, "node"), b.need(e, "torque")))
+
+    monkeypatch.setitem(ELEMENTS, "brake", BrakeKind)
+    path = tmp_path / "brake.toml"
+    path.write_text(textwrap.dedent("""
+        [drive]
+        t_end = "1 s"
+        samples = 11
+
+        [[node]]
+        name = "w"
+        inertia = "0.5 kg*m^2"
+
+        [[brake]]
+        name = "b"
+        node = "w"
+        torque = "2 N*m"
+        """))
+    f = DriveFile(path)
+    assert [p.name for p in f.params()][-1] == "b.torque"
+    net = f.build({"b.torque": 3.0}).network
+    assert [(ld.node, ld.mean) for ld in net.loads] == [("w", 3.0)]
+    r = simulate(net, 1.0, 11, SolverConfig("exact"), x0=np.array([0.0, 10.0]))
+    np.testing.assert_allclose(r["omega_w"], 10.0 - 3.0 / 0.5 * r.t, rtol=1e-13)
+    bare = tmp_path / "bare.toml"
+    bare.write_text(path.read_text().replace('torque = "2 N*m"', 'torqe = "2 N*m"'))
+    with pytest.raises(DriveFileError, match=r"2 problems: brake 'b': torqe: unknown key; did you mean torque"):
+        DriveFile(bare)
+    monkeypatch.delitem(ELEMENTS, "brake")
+    with pytest.raises(DriveFileError, match=r"unknown section \[brake\]"):
+        DriveFile(path)
 
 
 def test_conveyor_example_runs_every_element_kind_to_its_static_balance():

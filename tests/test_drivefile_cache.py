@@ -8,8 +8,8 @@ import pytest
 
 import beltcalc.units
 from beltcalc.catalogs import builtin_dir
-from beltcalc.sim import drivefile
 from beltcalc.sim.drivefile import DriveFile, DriveFileError
+from beltcalc.sim.drivefile.kinds import material_table, materials
 from test_drivefile import BASE
 
 
@@ -37,10 +37,10 @@ def test_a_second_build_reads_no_text_and_gives_the_same_drive(monkeypatch):
 
 
 def test_the_material_table_is_read_once():
-    drivefile._material_table.cache_clear()
-    table = drivefile._materials(None, None)
+    material_table.cache_clear()
+    table = materials()
     assert table["steel"] == {"shear_modulus": 75e9, "density": 7850.0}       # catalogs/materials.toml
-    assert drivefile._materials(None, None) is table
+    assert materials() is table
 
 
 def test_a_refused_text_is_refused_again_on_every_build(tmp_path):

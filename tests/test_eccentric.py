@@ -25,13 +25,13 @@ def belt(delta=GEO.delta, d=D1, C=C1):
 
 
 def network(delta=GEO.delta, d=D1, loads=(), J=(J1, J2)):
-    return Network([Inertia("m", J[0]), Inertia("r", J[1])], [], loads=list(loads), elements=[belt(delta, d)])
+    return Network([Inertia("m", J[0]), Inertia("r", J[1])], [*loads, belt(delta, d)])
 
 
 def test_without_eccentricity_it_is_the_constant_ratio_coupling():
     plain = network(delta=0.0, d=0.05, loads=[Load("r", 0.01, amplitude=0.02, omega=40.0)])
-    ref = Network([Inertia("m", J1), Inertia("r", J2)], [Coupling("b", "m", "r", C1, 0.05, U=1.375)],
-                  loads=[Load("r", 0.01, amplitude=0.02, omega=40.0)])
+    ref = Network([Inertia("m", J1), Inertia("r", J2)],
+                  [Coupling("b", "m", "r", C1, 0.05, U=1.375), Load("r", 0.01, amplitude=0.02, omega=40.0)])
     assert plain.linear
     assert_allclose(plain.first_order(None, 0.0)[0], ref.first_order(None, 0.0)[0], rtol=0, atol=0)
     a = simulate(plain, 0.5, 501)

@@ -308,7 +308,7 @@ def test_radau_at_rtol_1e_11_converges_through_the_switches():
 def test_jacobian_with_tension_only_spans_matches_finite_differences():
     geo = Eccentric(r1=0.02, r2=0.0275, a=0.30, r3=0.015, px=0.15, py=-0.030, delta=0.002)
     belt = EccentricBelt("b", "m", "r", 300.0, 0.04, geo, pretension=40.0)
-    net = Network([Inertia("m", 1e-4), Inertia("r", 2e-4)], [], elements=[belt])
+    net = Network([Inertia("m", 1e-4), Inertia("r", 2e-4)], [belt])
     rng = np.random.default_rng(3)
     seen = set()
     h = 1e-7
@@ -472,7 +472,7 @@ def test_the_budget_message_suggests_exact_only_where_it_runs():
     nodes = [Inertia("m", 1e-4), Inertia("r", 2e-4)]
     cfg = SolverConfig(method="radau", max_rhs_calls=5, estimate_error=False)
     with pytest.raises(SimulationError) as eccentric:
-        simulate(Network(nodes, [], elements=[EccentricBelt("b", "m", "r", 300.0, 0.05, geo)]), 0.2, 201, cfg, x0=x0)
+        simulate(Network(nodes, [EccentricBelt("b", "m", "r", 300.0, 0.05, geo)]), 0.2, 201, cfg, x0=x0)
     assert "stopped at" in str(eccentric.value) and "exact" not in str(eccentric.value)
     with pytest.raises(SimulationError) as linear:
         simulate(Network(nodes, [Coupling("b", "m", "r", 300.0, 0.05, U=1.375)]), 0.2, 201, cfg, x0=x0)

@@ -212,9 +212,9 @@ def _mixed():
              Load("s", 0.05, 0.1, 40.0)]
     strands = [Strand("ab", "a", "s", 0.03, 0.03, 2e5, 30.0, preload=20.0),
                Strand("sa", "s", "a", 0.03, 0.03, 2e5, 30.0, preload=20.0)]
-    return (Network(nodes, couplings, loads, prescribed=[Pres("d", 50.0, ((0.0, 100.0), (0.1, -50.0)))],
-                    strands=strands, gears=[Gear("a", "g", 2.0)],
-                    speed_loops=[SpeedLoop("b", 0.5, ((0.0, 0.0), (0.2, 10.0)))]), 0.3, 3001)
+    return (Network(nodes,
+                    [*couplings, *loads, Pres("d", 50.0, ((0.0, 100.0), (0.1, -50.0))), *strands, Gear("a", "g", 2.0),
+                     SpeedLoop("b", 0.5, ((0.0, 0.0), (0.2, 10.0)))]), 0.3, 3001)
 
 
 CASES = {**{f"scene {n}": (lambda n=n: _scene(n)) for n in SCENES},

@@ -149,14 +149,15 @@ def test_sewing_steady_state_equals_a_long_simulation_over_whole_periods(load_fr
 
 
 def test_steady_state_refuses_where_there_is_none():
-    free = Network([Inertia("a", 1.0), Inertia("b", 1.0)], [Coupling("c", "a", "b", 10.0, 0.1)], [Load("b", 1.0)])
+    free = Network([Inertia("a", 1.0), Inertia("b", 1.0)], [Coupling("c", "a", "b", 10.0, 0.1), Load("b", 1.0)])
     with pytest.raises(InputError, match="do not balance: the drive accelerates"):
         fr.steady_state(free, ["omega_a"])
-    slack = Network([Inertia("a", 1.0), Inertia("b", 1.0)], [Coupling("g", "a", None, 100.0, 1.0)],
-                    [Load("b", 0.0, 50.0, 3.0)], strands=[Strand("s", "a", "b", 1.0, 1.0, 1e4, 10.0, 5.0)])
+    slack = Network([Inertia("a", 1.0), Inertia("b", 1.0)],
+                    [Coupling("g", "a", None, 100.0, 1.0), Load("b", 0.0, 50.0, 3.0),
+                     Strand("s", "a", "b", 1.0, 1.0, 1e4, 10.0, 5.0)])
     with pytest.raises(InputError, match="strand s would go slack in the steady state"):
         fr.steady_state(slack, ["omega_a"])
-    angle = Network([Inertia("a", 1.0)], [Coupling("g", "a", None, 100.0, 1.0)], [Load("a", 0.0, 1.0, in_angle=True)])
+    angle = Network([Inertia("a", 1.0)], [Coupling("g", "a", None, 100.0, 1.0), Load("a", 0.0, 1.0, in_angle=True)])
     with pytest.raises(InputError, match="nonlinear"):
         fr.steady_state(angle, ["omega_a"])
 

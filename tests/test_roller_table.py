@@ -196,7 +196,7 @@ def test_taut_strands_are_couplings_with_a_constant_pretension_torque():
     for s in net.strands:
         couplings.append(Coupling(s.name, s.i, s.j, s.stiffness * s.r_i ** 2, s.damping * s.r_i ** 2, s.r_j / s.r_i))
         loads += [Load(s.i, mean=s.r_i * s.preload), Load(s.j, mean=-s.r_j * s.preload)]
-    linear = Network(net.nodes, couplings, loads, net.motor)
+    linear = Network(net.nodes, [*couplings, *loads, *net.motors])
     ref = simulate(linear, 2.5, 2501, EXACT)
     scale = float(np.max(np.abs(speeds(linear, ref))))
     assert scale > 100.0  # the motor is near 150 rad/s: the comparison is not of zeros
@@ -264,7 +264,7 @@ def overrunning(net: Network) -> Network:
     """The same network with every roller load reversed: the load drives the rollers."""
     loads = [dataclasses.replace(ld, mean=-ld.mean, amplitude=-ld.amplitude,
                                  table=tuple((t, -v) for t, v in ld.table)) for ld in net.loads]
-    return Network(net.nodes, net.couplings, loads, net.motor, strands=net.strands)
+    return Network(net.nodes, [*net.couplings, *loads, *net.motors, *net.strands])
 
 
 def test_overrunning_load_slackens_the_drive_strand_whatever_the_solver():

@@ -253,8 +253,8 @@ def two_inertias(values: dict) -> Network:
     """A drum driven at a constant speed through a jaw coupling, under a constant load."""
     require_range("jaw.damping", values["jaw.damping"], "N*m*s/rad", low=0.0)
     return Network([Inertia("motor", 1e-3), Inertia("drum", values["drum.inertia"])],
-                   [Coupling("jaw", "motor", "drum", values["jaw.stiffness"], values["jaw.damping"])],
-                   [Load("drum", values["drum.load"])], prescribed=[Prescribed("motor", values["motor.speed"])])
+                   [Coupling("jaw", "motor", "drum", values["jaw.stiffness"], values["jaw.damping"]),
+                    Load("drum", values["drum.load"]), Prescribed("motor", values["motor.speed"])])
 
 
 def run_two_inertias(values: dict, cfg) -> Outcome:

@@ -13,7 +13,7 @@ from beltcalc.sim.network import Coupling, Inertia, InductionMotor, Load, Networ
 
 
 def two_mass(C=100.0, d=0.0, J1=0.01, J2=0.03, loads=()):
-    return Network([Inertia("1", J1), Inertia("2", J2)], [Coupling("c", "1", "2", C, d)], list(loads))
+    return Network([Inertia("1", J1), Inertia("2", J2)], [Coupling("c", "1", "2", C, d), *loads])
 
 
 def test_matrices_lagrange_with_ratio():
@@ -46,7 +46,7 @@ def test_undamped_energy_over_10000_periods():
 def test_one_dof_harmonic_amplitude():
     # J phi'' + d phi' + C phi = -A sin(w t): steady amplitude A / |C - J w^2 + j d w|
     J, C, d, A, w = 0.02, 50.0, 0.3, 0.5, 40.0
-    net = Network([Inertia("1", J)], [Coupling("ground", "1", None, C, d)], [Load("1", 0.0, A, w)])
+    net = Network([Inertia("1", J)], [Coupling("ground", "1", None, C, d), Load("1", 0.0, A, w)])
     r = simulate(net, 20.0, 40001, SolverConfig("exact"))
     expected = A / abs(C - J * w * w + 1j * d * w)
     assert r.summary("phi_1", 15.0).amplitude == pytest.approx(expected, rel=1e-4)
@@ -54,7 +54,7 @@ def test_one_dof_harmonic_amplitude():
 
 def test_step_response_static_deflection():
     # constant load M on 1-DOF: phi -> -M / C
-    net = Network([Inertia("1", 0.02)], [Coupling("g", "1", None, 50.0, 2.0)], [Load("1", 1.5)])
+    net = Network([Inertia("1", 0.02)], [Coupling("g", "1", None, 50.0, 2.0), Load("1", 1.5)])
     r = simulate(net, 5.0, 2001, SolverConfig("exact"))
     assert r["phi_1"][-1] == pytest.approx(-1.5 / 50.0, rel=1e-9)
 
@@ -67,7 +67,7 @@ def sewing_like():
     cps = [Coupling(f"c{k + 1}", str(k + 1), str(k + 2), 260.0, d[k], U[k]) for k in range(4)]
     motor = InductionMotor("1", 3.0, 0.2, 2 * math.pi * 50, 2 * math.pi * 50)
     w = 300 / 1.375
-    return Network(nodes, cps, [Load("3", 0.1, 0.175, w), Load("5", 0.012, 0.14, w)], motor)
+    return Network(nodes, [*cps, Load("3", 0.1, 0.175, w), Load("5", 0.012, 0.14, w), motor])
 
 
 def test_sewing_is_stiff():
@@ -111,7 +111,7 @@ def test_exact_error_estimate_is_small():
 
 
 def test_auto_switches_to_radau_for_angle_loads():
-    net = Network([Inertia("1", 0.01)], [Coupling("g", "1", None, 10.0, 0.5)], [Load("1", 0.0, 0.2, in_angle=True)])
+    net = Network([Inertia("1", 0.01)], [Coupling("g", "1", None, 10.0, 0.5), Load("1", 0.0, 0.2, in_angle=True)])
     r = simulate(net, 0.2, 201, SolverConfig("auto"))
     assert r.method == "radau"
     assert "nonlinear" in r.reason
@@ -187,7 +187,7 @@ def test_stiffness_ratio_1e6():
     # (the stiff mode: sqrt(1e8 (1/0.02 + 1/0.03)) = 9.1e4 rad/s, damping ratio 0.43)
     nodes = [Inertia("1", 0.01), Inertia("2", 0.02), Inertia("3", 0.03)]
     cps = [Coupling("soft", "1", "2", 100.0, 0.01), Coupling("stiff", "2", "3", 1e8, 3e4)]
-    net = Network(nodes, cps, [Load("3", 0.2, 0.1, 30.0)])
+    net = Network(nodes, [*cps, Load("3", 0.2, 0.1, 30.0)])
     f_slow = net.modes()[0][0]
     assert f_slow == pytest.approx(math.sqrt(100 * (1 / 0.01 + 1 / 0.05)) / (2 * math.pi), rel=1e-5)
     ex = simulate(net, 1.0, 2001, SolverConfig("exact", estimate_error=False))
@@ -201,8 +201,8 @@ def test_prescribed_constant_speed_is_exact_and_gives_the_drive_torque():
     # steady state: both turn at 100 rad/s, twist phi_d - phi_1 = 2 / 50 = 0.04 rad, drive torque 2 N m
     from beltcalc.sim.network import Prescribed
 
-    net = Network([Inertia("d", 1.0), Inertia("1", 0.02)], [Coupling("c", "d", "1", 50.0, 1.0)],
-                  [Load("1", 2.0)], prescribed=[Prescribed("d", speed=100.0)])
+    net = Network([Inertia("d", 1.0), Inertia("1", 0.02)],
+                  [Coupling("c", "d", "1", 50.0, 1.0), Load("1", 2.0), Prescribed("d", speed=100.0)])
     assert net.linear
     r = simulate(net, 3.0, 3001, SolverConfig("auto"))
     assert r.method == "exact"
@@ -218,8 +218,8 @@ def test_prescribed_acceleration_drive_torque():
     # (1 + 0.02) * 50 = 51 N m
     from beltcalc.sim.network import Prescribed
 
-    net = Network([Inertia("d", 1.0), Inertia("1", 0.02)], [Coupling("c", "d", "1", 1e4, 20.0)],
-                  prescribed=[Prescribed("d", speed=0.0, accel=((0.0, 50.0),))])
+    net = Network([Inertia("d", 1.0), Inertia("1", 0.02)],
+                  [Coupling("c", "d", "1", 1e4, 20.0), Prescribed("d", speed=0.0, accel=((0.0, 50.0),))])
     r = simulate(net, 1.0, 1001, SolverConfig("auto", rtol=1e-9, atol=1e-12))
     assert r.method == "exact"  # a piecewise-linear acceleration keeps the network linear
     ra = simulate(net, 1.0, 1001, SolverConfig("radau", rtol=1e-9, atol=1e-12))
@@ -231,23 +231,23 @@ def test_prescribed_acceleration_drive_torque():
 
 def test_tabulated_load_equals_the_same_constant_and_ramp():
     # a table that holds 1.5 N m equals the constant load (exact); a ramp table is interpolated
-    base = [Inertia("1", 0.02)], [Coupling("g", "1", None, 50.0, 2.0)]
-    const = simulate(Network(*base, [Load("1", 1.5)]), 2.0, 2001, SolverConfig("exact", estimate_error=False))
-    table = simulate(Network(*base, [Load("1", table=((0.0, 1.5), (2.0, 1.5)))]), 2.0, 2001,
+    nodes, ground = [Inertia("1", 0.02)], Coupling("g", "1", None, 50.0, 2.0)
+    const = simulate(Network(nodes, [ground, Load("1", 1.5)]), 2.0, 2001, SolverConfig("exact", estimate_error=False))
+    table = simulate(Network(nodes, [ground, Load("1", table=((0.0, 1.5), (2.0, 1.5)))]), 2.0, 2001,
                      SolverConfig("auto", rtol=1e-10, atol=1e-12))
     assert table.method == "exact"
     np.testing.assert_allclose(table["phi_1"], const["phi_1"], atol=1e-12)
-    radau = simulate(Network(*base, [Load("1", table=((0.0, 1.5), (2.0, 1.5)))]), 2.0, 2001,
+    radau = simulate(Network(nodes, [ground, Load("1", table=((0.0, 1.5), (2.0, 1.5)))]), 2.0, 2001,
                      SolverConfig("radau", rtol=1e-10, atol=1e-12))
     np.testing.assert_allclose(radau["phi_1"], const["phi_1"], atol=1e-9)
-    ramp = Network(*base, [Load("1", 0.5, table=((0.0, 0.0), (1.0, 2.0)))])
+    ramp = Network(nodes, [ground, Load("1", 0.5, table=((0.0, 0.0), (1.0, 2.0)))])
     r = simulate(ramp, 2.0, 2001, SolverConfig("auto", estimate_error=False))
     np.testing.assert_allclose(r["load_1"][[0, 500, 1000, 2000]], [0.5, 1.5, 2.5, 2.5], rtol=1e-12)
     # the ramp's response, exact (a break point at 1 s) against Radau
     rr = simulate(ramp, 2.0, 2001, SolverConfig("radau", rtol=1e-10, atol=1e-13, estimate_error=False))
     np.testing.assert_allclose(rr["phi_1"], r["phi_1"], atol=1e-9)
     with pytest.raises(InputError, match="rising times"):
-        Network(*base, [Load("1", table=((1.0, 0.0), (0.5, 1.0)))])
+        Network(nodes, [ground, Load("1", table=((1.0, 0.0), (0.5, 1.0)))])
 
 
 
@@ -270,8 +270,8 @@ def test_steps_of_scipy_methods_are_accepted_steps(name):
 def test_a_scipy_run_is_bounded_in_computing_time():
     # a model many decades stiffer in one part crawls under Radau: the run stops at max_seconds
     # with one line saying so, instead of running for minutes
-    net = Network([Inertia("a", 1e-4), Inertia("b", 1e-4)], [Coupling("c", "a", "b", 2.6e12, 0.0)],
-                  loads=[Load("b", 0.0, amplitude=0.1, omega=200.0)])
+    net = Network([Inertia("a", 1e-4), Inertia("b", 1e-4)],
+                  [Coupling("c", "a", "b", 2.6e12, 0.0), Load("b", 0.0, amplitude=0.1, omega=200.0)])
     cfg = SolverConfig(method="radau", max_seconds=0.2, estimate_error=False, rtol=1e-12, atol=1e-16)
     with pytest.raises(SimulationError, match=r"radau stopped at t = .* s after 0.2 s of computing \(\d+ "
                                               r"right-hand-side calls\).*many decades stiffer"):

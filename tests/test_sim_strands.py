@@ -20,8 +20,7 @@ def bounce(d0=0.01, v0=0.5, mass=2.0, c=2e4, b=0.0, preload=0.0):
     """A sliding mass on a tension-only strand anchored to the frame, slack by d0, moving at v0
     towards it: free flight for d0 / v0, half an oscillation of w = sqrt(c / m) on the strand,
     then free flight back at -v0 (no damping: the strand returns all the energy)."""
-    net = Network([Inertia("m", mass, translation=True)], [],
-                  strands=[Strand("s", "m", None, 1.0, 1.0, c, b, preload)])
+    net = Network([Inertia("m", mass, translation=True)], [Strand("s", "m", None, 1.0, 1.0, c, b, preload)])
     x0 = np.array([-d0, v0])
     return net, x0
 
@@ -83,7 +82,7 @@ def reversing():
     nodes = [Inertia("a", 0.01), Inertia("b", 0.02)]
     cps = [Coupling("ga", "a", None, 0.0, 0.05), Coupling("gb", "b", None, 0.0, 0.02)]
     strand = [Strand("s", "a", "b", 0.05, 0.05, 2e5, 50.0, preload=50.0)]
-    return Network(nodes, cps, [Load("a", 0.0, -6.0, 20.0)], strands=strand)
+    return Network(nodes, [*cps, Load("a", 0.0, -6.0, 20.0), *strand])
 
 
 @pytest.mark.parametrize("method", ["radau", "bdf", "lsoda"])
@@ -118,12 +117,12 @@ def test_taut_strands_are_ordinary_springs():
     nodes = [Inertia("a", 0.01), Inertia("b", 0.02)]
     cps = [Coupling("gb", "b", None, 0.0, 0.1)]
     loads = [Load("a", 0.0, -1.0, 30.0), Load("b", 0.5)]
-    a = simulate(Network(nodes, cps, loads, strands=strands), 1.0, 1001, EXACT)
+    a = simulate(Network(nodes, [*cps, *loads, *strands]), 1.0, 1001, EXACT)
     springs, pre = [], []
     for s in strands:
         springs.append(Coupling(s.name, s.i, s.j, s.stiffness * s.r_i ** 2, s.damping * s.r_i ** 2, s.r_j / s.r_i))
         pre += [Load(s.i, s.r_i * s.preload), Load(s.j, -s.r_j * s.preload)]
-    b = simulate(Network(nodes, cps + springs, loads + pre), 1.0, 1001, EXACT)
+    b = simulate(Network(nodes, [*cps, *springs, *loads, *pre]), 1.0, 1001, EXACT)
     assert a.extra["events"] == 0 and min(a["F_ab"].min(), a["F_ba"].min()) > 0
     assert_allclose(a["omega_b"], b["omega_b"], atol=1e-10)
     assert_allclose(a["F_ab"], b["T_ab"] / 0.05 + 400.0, rtol=1e-9)
@@ -133,7 +132,7 @@ def test_a_strand_without_pretension_takes_up_from_rest():
     # at rest on its surface (no elongation, no rate) the strand is judged a moment later:
     # node a, driven, pulls b from the first instant; undamped, the force swings 0..2 T / r
     nodes = [Inertia("a", 0.01), Inertia("b", 0.01)]
-    net = Network(nodes, [], [Load("a", -0.5)], strands=[Strand("chain", "a", "b", 0.05, 0.05, 1e6, 0.0)])
+    net = Network(nodes, [Load("a", -0.5), Strand("chain", "a", "b", 0.05, 0.05, 1e6, 0.0)])
     r = simulate(net, 0.5, 501, SolverConfig("exact"))
     # taut throughout: undamped, the force comes back to zero at every swing, and whether
     # rounding lets it dip below zero for an instant there is the BLAS kernel's (none under
@@ -155,7 +154,7 @@ def test_chattering_is_bounded_and_named():
 def test_a_step_load_at_an_off_grid_time_is_exact():
     # J w' = -d w - T 1(t > ts): w = -(T/d) (1 - exp(-d (t - ts) / J)) after ts = 0.1234 s
     J, d, T, ts = 0.02, 0.5, 2.0, 0.1234
-    net = Network([Inertia("1", J)], [Coupling("g", "1", None, 0.0, d)], [Load("1", table=((ts, 0.0), (ts, T)))])
+    net = Network([Inertia("1", J)], [Coupling("g", "1", None, 0.0, d), Load("1", table=((ts, 0.0), (ts, T)))])
     r = simulate(net, 1.0, 101, SolverConfig("auto"))
     assert r.method == "exact"
     expected = np.where(r.t > ts, -(T / d) * (1 - np.exp(-d * (r.t - ts) / J)), 0.0)
@@ -166,7 +165,7 @@ def test_prescribed_trapezoid_and_its_drive_torque():
     # accelerate at 100 rad/s^2 for 0.1 s, cruise, brake: the drive torque of a bare 0.03 kg m^2
     # inertia is J a, and the speed follows the ramp exactly
     acc = ((0.0, 100.0), (0.1, 100.0), (0.1, 0.0), (0.3, 0.0), (0.3, -100.0), (0.4, -100.0), (0.4, 0.0))
-    net = Network([Inertia("d", 0.03)], [], prescribed=[Prescribed("d", 0.0, acc)])
+    net = Network([Inertia("d", 0.03)], [Prescribed("d", 0.0, acc)])
     r = simulate(net, 0.5, 501, EXACT)
     assert_allclose(r["omega_d"], np.clip(np.minimum(100 * r.t, 10.0 - 100 * (r.t - 0.3)), 0.0, 10.0), atol=1e-12)
     inner = (np.abs(r.t - 0.1) > 2e-3) & (np.abs(r.t - 0.3) > 2e-3) & (np.abs(r.t - 0.4) > 2e-3)
@@ -177,7 +176,7 @@ def test_prescribed_trapezoid_and_its_drive_torque():
 def test_speed_loop_first_order_response():
     # J w' = K (w_r - w): w = w_r (1 - exp(-K t / J)); the drive torque K (w_r - w)
     J, K, wr = 0.01, 0.2, 50.0
-    net = Network([Inertia("m", J)], [], speed_loops=[SpeedLoop("m", K, ((0.0, wr),))])
+    net = Network([Inertia("m", J)], [SpeedLoop("m", K, ((0.0, wr),))])
     r = simulate(net, 0.5, 501, EXACT)
     assert_allclose(r["omega_m"], wr * (1 - np.exp(-K * r.t / J)), atol=1e-11)
     assert_allclose(r["T_drive_m"], K * (wr - r["omega_m"]), atol=1e-12)
@@ -188,7 +187,7 @@ def test_inverter_ramp_reaches_the_static_characteristic():
     # slip of the linearised characteristic: w = w0 (1 - S_c T / (2 M_c))
     w0, mc, sc = 157.08, 20.0, 0.2
     motor = InductionMotor("m", mc, sc, w0, 314.16, sync_table=((0.0, 0.0), (1.0, w0)))
-    net = Network([Inertia("m", 0.01)], [], [Load("m", 2.0)], motor)
+    net = Network([Inertia("m", 0.01)], [Load("m", 2.0), motor])
     r = simulate(net, 3.0, 3001, SolverConfig("auto"))
     assert r.method == "exact"
     assert r["omega_m"][-1] == pytest.approx(w0 * (1 - sc * 2.0 / (2 * mc)), rel=1e-9)
@@ -199,12 +198,12 @@ def test_inverter_ramp_reaches_the_static_characteristic():
 def test_bad_elements_are_refused():
     nodes = [Inertia("a", 0.01)]
     with pytest.raises(InputError, match="stiffness"):
-        Network(nodes, [], strands=[Strand("s", "a", None, 0.05, 1.0, 0.0, 0.0)])
+        Network(nodes, [Strand("s", "a", None, 0.05, 1.0, 0.0, 0.0)])
     with pytest.raises(InputError, match="preload"):
-        Network(nodes, [], strands=[Strand("s", "a", None, 0.05, 1.0, 1e5, 0.0, -1.0)])
+        Network(nodes, [Strand("s", "a", None, 0.05, 1.0, 1e5, 0.0, -1.0)])
     with pytest.raises(InputError, match="unknown node"):
-        Network(nodes, [], strands=[Strand("s", "a", "zz", 0.05, 0.05, 1e5, 0.0)])
+        Network(nodes, [Strand("s", "a", "zz", 0.05, 0.05, 1e5, 0.0)])
     with pytest.raises(InputError, match="rising times"):
-        Network(nodes, [], prescribed=[Prescribed("a", 0.0, ((1.0, 0.0), (0.5, 1.0)))])
+        Network(nodes, [Prescribed("a", 0.0, ((1.0, 0.0), (0.5, 1.0)))])
     with pytest.raises(InputError, match="speed loop"):
-        Network(nodes, [], prescribed=[Prescribed("a")], speed_loops=[SpeedLoop("a", 1.0, ((0.0, 1.0),))])
+        Network(nodes, [Prescribed("a"), SpeedLoop("a", 1.0, ((0.0, 1.0),))])

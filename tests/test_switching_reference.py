@@ -113,8 +113,8 @@ def bounce_sequence(m=M1, c=C1, b=B1, f=FORCE1, d0=D0):
 
 
 def bouncing_net():
-    net = Network([Inertia("m", M1, translation=True)], [], [Load("m", mean=-FORCE1)],
-                  strands=[Strand("s", "m", None, 1.0, 1.0, C1, B1, 0.0)])
+    net = Network([Inertia("m", M1, translation=True)],
+                  [Load("m", mean=-FORCE1), Strand("s", "m", None, 1.0, 1.0, C1, B1, 0.0)])
     return net, np.array([-D0, 0.0])
 
 
@@ -215,8 +215,8 @@ def periodic(eps):
 
 
 def grazing_net(M):
-    return Network([Inertia("m", M2, translation=True)], [], [Load("m", mean=M, amplitude=A2, omega=W2)],
-                   strands=[Strand("s", "m", None, 1.0, 1.0, C2, B2, F02)])
+    return Network([Inertia("m", M2, translation=True)],
+                   [Load("m", mean=M, amplitude=A2, omega=W2), Strand("s", "m", None, 1.0, 1.0, C2, B2, F02)])
 
 
 def test_force_grazing_zero_makes_no_switch():

@@ -78,8 +78,8 @@ def test_sparse_path_bounces_like_the_closed_form():
 
 def test_sparse_path_without_strand_events_in_a_mode():
     # a network whose strand never takes up in the run: no switch, the free flight exact
-    net = Network([Inertia("m", 1.0, translation=True)], [], [Load("m", mean=1.0)],
-                  strands=[Strand("s", "m", None, 1.0, 1.0, 1e4, 1.0, 0.0)])
+    net = Network([Inertia("m", 1.0, translation=True)],
+                  [Load("m", mean=1.0), Strand("s", "m", None, 1.0, 1.0, 1e4, 1.0, 0.0)])
     t = np.linspace(0.0, 1.0, 11)
     r = run(net, t, np.array([-0.1, 0.0]), True)
     assert r.switches == []

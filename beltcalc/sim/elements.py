@@ -1,10 +1,10 @@
 """The element kinds of a drive train. Each kind stamps itself: it checks its own values,
 adds its own rows to the network's matrices and inputs, and names its own outputs. A
-:class:`~beltcalc.sim.network.Network` only loops over its elements (a new kind goes in its
-``elements`` list); adding a kind touches this module, and the drive-file reader if files
-are to name it (``KEYS`` and a ``_<section>`` method in :mod:`beltcalc.sim.drivefile`).
-Tension-only strands are the one kind the switching core handles itself. SI floats only; no
-pint, no click.
+:class:`~beltcalc.sim.network.Network` takes them all in one list and only loops over them
+(a new kind is one class here, or anywhere); drive files name a kind through one class of
+:mod:`beltcalc.sim.drivefile.kinds` and one line of the ``ELEMENTS`` registry
+(:mod:`beltcalc.sim.drivefile.registry`). Rigid gears merge nodes into coordinates and
+tension-only strands are switched by the core itself. SI floats only; no pint, no click.
 
 The hooks an element may define (all optional, see :class:`Element`):
 
@@ -51,6 +51,10 @@ class Element:
     acts on), and gives every hook a do-nothing default."""
 
     UNITS: ClassVar[dict[str, str | None]] = {}
+    #: where the kind stamps among the others: the network sums the matrices and inputs kind by
+    #: kind in this order (couplings, speed loops, loads, prescribed motions, motors, then any
+    #: other kind), the elements of one kind as listed
+    ORDER: ClassVar[int] = 60
 
     def __post_init__(self):
         convert_fields(self, self.UNITS)
@@ -224,6 +228,7 @@ class Coupling(Element):
     U: float = 1.0
 
     UNITS: ClassVar[dict] = {"C": None, "d": None, "U": ""}
+    ORDER: ClassVar[int] = 10
 
     def check(self, net) -> None:
         net.check_ends(self.name, self.i, self.j)
@@ -331,6 +336,7 @@ class Load(Element):
 
     UNITS: ClassVar[dict] = {"mean": None, "amplitude": None, "omega": "rad/s", "phase": "rad", "start": "s",
                              "order": ""}
+    ORDER: ClassVar[int] = 30
 
     @property
     def nonlinear_kind(self) -> bool:
@@ -430,6 +436,7 @@ class Prescribed(Element):
     accel: Points = ()
 
     UNITS: ClassVar[dict] = {"speed": None}
+    ORDER: ClassVar[int] = 40
 
     def check(self, net) -> None:
         net.check_ends("prescribed motion", self.node, None)
@@ -458,6 +465,7 @@ class SpeedLoop(Element):
     feedforward: Points = ()
 
     UNITS: ClassVar[dict] = {"gain": None}
+    ORDER: ClassVar[int] = 20
 
     def check(self, net) -> None:
         net.check_ends("a speed loop", self.node, None)
@@ -513,6 +521,7 @@ class InductionMotor(Element):
 
     UNITS: ClassVar[dict] = {"breakdown_torque": "N*m", "breakdown_slip": "", "sync_speed": "rad/s",
                              "supply": "rad/s"}
+    ORDER: ClassVar[int] = 50
 
     def check(self, net) -> None:
         net.check_ends(f"motor {self.name}", self.node, None)

@@ -369,7 +369,7 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
     would go slack.
 
     >>> from beltcalc.sim.network import Coupling, Inertia, Load, Network
-    >>> net = Network([Inertia("a", 0.02)], [Coupling("g", "a", None, 50.0, 0.3)], [Load("a", 0.0, 0.5, 40.0)])
+    >>> net = Network([Inertia("a", 0.02)], [Coupling("g", "a", None, 50.0, 0.3), Load("a", 0.0, 0.5, 40.0)])
     >>> round(steady_state(net, ["phi_a"]).amplitude["phi_a"], 8)      # 0.5 / |C - J w^2 + j d w|
     0.02311251
     """

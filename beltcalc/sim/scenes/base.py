@@ -686,7 +686,7 @@ def input_changes(net, t_end: float = math.inf) -> list[float]:
     that repeats its value, changes nothing).
 
     >>> from beltcalc.sim.network import Inertia, Load, Network
-    >>> net = Network([Inertia("a", 1.0)], [], [Load("a", table=((0.0, 0.0), (1.0, 1.0), (2.0, 2.0), (3.0, 2.0)))])
+    >>> net = Network([Inertia("a", 1.0)], [Load("a", table=((0.0, 0.0), (1.0, 1.0), (2.0, 2.0), (3.0, 2.0)))])
     >>> net.breaks(math.inf), input_changes(net)       # on a line through 1 s, held from 2 s
     ([1.0, 2.0, 3.0], [2.0])
     """

@@ -1,0 +1,402 @@
+"""The element kinds of drive files: each declares its section, its keys (:class:`Key`: unit,
+range, default, help) and how an entry of it builds (:meth:`Kind.build`: the elements it
+adds to the :class:`~beltcalc.sim.network.Network`, and what the report follows). The
+motors are in :mod:`beltcalc.sim.drivefile.motors`; the registry of them all,
+``ELEMENTS``, in :mod:`beltcalc.sim.drivefile.registry`.
+
+A kind builds through the builder it is given (:class:`beltcalc.sim.drivefile.builder.Builder`):
+``b.get(e, key, default)``, ``b.need(e, key)`` (SI values, checked, ``--set`` first),
+``b.node_name``, ``b.between``, ``b.lookup`` (a catalog entry), ``b.fail(e, key, what)``, and
+``b.add(element)``; its records (``notes``, ``torques``, ``limits``, ...) are the report's.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from pathlib import Path
+from typing import ClassVar
+
+from beltcalc.errors import BeltcalcError
+from beltcalc.sim.drivefile.keys import TORQUE, Entry, Key, read_drive_toml
+
+
+class Kind:
+    """A section of drive files: ``section`` (``[[section]]``), its ``keys`` in the order the
+    docs and ``--list-params`` show them, and :meth:`build`.
+
+    ``node_key``: the key that names the node the entry acts on; a key of either dimension
+    (``"N*m|N"``) takes the one of that node (rotating or translating).
+    ``shares_node_name``: the entry may take the name of that node (a motor named after the
+    node it drives)."""
+
+    section: ClassVar[str]
+    keys: ClassVar[dict[str, Key]]
+    node_key: ClassVar[str] = ""
+    shares_node_name: ClassVar[bool] = False
+
+    @classmethod
+    def problems(cls, e: Entry) -> list[tuple[str, str, str]]:
+        """What is wrong with the entry beyond unknown and missing keys, as (where, key, what)."""
+        return []
+
+    @classmethod
+    def missing(cls, e: Entry, given: set) -> list[tuple[str, str, str]]:
+        """The keys the entry needs by what it is (a motor's kind) that ``given`` (its keys in
+        the file and those set) lacks, as (where, key, what)."""
+        return []
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        """Add the entry's elements to the builder ``b``."""
+        raise NotImplementedError
+
+
+class Head(Kind):
+    """``[drive]``: the title and the timing (read by the builder's ``timing``)."""
+
+    section = "drive"
+    keys = {
+        "title": Key("text", "title of the report"),
+        "t_end": Key("s", "simulated time", True, low=">0"),
+        "samples": Key("int", "output samples (>= 2)"),
+        "window": Key("s", "start of the steady window for means and amplitudes", low=">=0"),
+    }
+
+
+class NodeKind(Kind):
+    """``[[node]]``: a rotating inertia or a translating mass, with the pitch diameter where
+    strands leave it."""
+
+    section = "node"
+    keys = {
+        "name": Key("text", "unique name", True),
+        "inertia": Key("kg*m^2", "rotating inertia (0: massless, condensed out)", low=">=0"),
+        "mass": Key("kg", "a translating mass instead of an inertia", low=">=0"),
+        "teeth": Key("int", "teeth of the pulley or sprocket (pitch diameter from the belt or chain)"),
+        "belt": Key("text", "belt profile of the pulley (catalog name), for its pitch diameter"),
+        "chain": Key("text", "chain of the sprocket (catalog name), for its pitch diameter"),
+        "pitch_diameter": Key("m", "pitch diameter where strands leave the node", low=">0"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        inertia, mass = b.get(e, "inertia"), b.get(e, "mass")
+        if (inertia is None) == (mass is None):
+            b.fail(e, "inertia", "give exactly one of inertia (rotating) or mass (translating)")
+        value = inertia if mass is None else mass
+        if not (value >= 0 and math.isfinite(value)):
+            b.fail(e, "inertia" if mass is None else "mass", f"{value:g} is not allowed; it must be >= 0")
+        b.add_node(e.name, value, translation=mass is not None)
+        d = b.get(e, "pitch_diameter")
+        teeth = b.get(e, "teeth")
+        if d is None and teeth is not None:
+            belt, chain = e.raw.get("belt"), e.raw.get("chain")
+            if (belt is None) == (chain is None):
+                b.fail(e, "teeth", "give the belt or the chain that runs on it (for the pitch diameter)")
+            if belt is not None:
+                from beltcalc.belt import pulley_pitch_diameter
+
+                d = pulley_pitch_diameter(teeth, b.lookup(e, "belt", "belt").pitch)
+            else:
+                from beltcalc.chain import sprocket_pitch_diameter
+
+                d = sprocket_pitch_diameter(b.lookup(e, "chain", "chain").pitch, teeth)
+        if d is not None:
+            if not d > 0:
+                b.fail(e, "pitch_diameter", f"{d:g} m; it must be > 0 m")
+            b.radius[e.name] = d / 2
+
+
+class CouplingKind(Kind):
+    """``[[coupling]]``: a spring-damper with a ratio (:class:`~beltcalc.sim.elements.Coupling`),
+    rigid (a :class:`~beltcalc.sim.elements.Gear`), or a belt with an eccentric tension roller
+    (:class:`~beltcalc.sim.eccentric.EccentricBelt`)."""
+
+    section = "coupling"
+    node_key = "between"
+    keys = {
+        "name": Key("text", "unique name"),
+        "between": Key("names", "[node, node] (one node: to the frame)", True),
+        "stiffness": Key("N*m/rad|N/m", "spring C", True, low=">=0"),
+        "damping": Key("N*m*s/rad|N*s/m", "damper d", low=">=0"),
+        "ratio": Key("", "U: the torque is C (phi_a - U phi_b) + d (omega_a - U omega_b)", low=">0"),
+        "rigid": Key("bool", "join the two nodes rigidly (phi_b = phi_a / U); the error of doing so is printed"),
+        "eccentricity": Key("m", "an eccentric tension roller on the belt's slack span: the pivot's offset Delta "
+                                 "from the roller's centre (docs/eccentric_roller.md); 0: none", low=">=0"),
+        "roller_radius": Key("m", "the tension roller's radius r3", low=">0", when="eccentricity"),
+        "pulley_radius": Key("m", "pitch radius r1 of the first node's pulley (r2 = ratio x r1) [default: the "
+                                  "node's pitch diameter / 2]", low=">0"),
+        "center_distance": Key("m", "centre distance a of the two pulleys", low=">0", when="eccentricity"),
+        "pivot_x": Key("m", "the roller's pivot, along the line from the first pulley to the second",
+                       when="eccentricity"),
+        "pivot_y": Key("m", "the roller's pivot, across that line (negative: under the slack span)",
+                       when="eccentricity"),
+        "roller_angle": Key("rad", "the eccentric's angle theta_0 when the first node's angle is 0"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        from beltcalc.sim.elements import Coupling, Gear
+
+        ends = b.between(e, (1, 2))
+        C, d = b.need(e, "stiffness"), b.get(e, "damping", 0.0)
+        U = b.get(e, "ratio", 1.0)
+        j = ends[1] if len(ends) == 2 else None
+        if e.raw.get("rigid") is True and not b.flexible:
+            if j is None:
+                b.fail(e, "rigid", "a rigid coupling to the frame would hold the node still; "
+                                   "use a prescribed motor of speed 0")
+            b.add(Gear(ends[0], j, U, name=e.name))
+            b.rigid.append(e.name)
+            return
+        if (b.get(e, "eccentricity", 0.0) or 0.0) > 0:    # else the roller's keys change nothing
+            cls.eccentric(b, e, ends, j, C, d, U)
+            return
+        b.add(Coupling(e.name, ends[0], j, C, d, U))
+        b.torques.append((f"T_{e.name}", e.name))
+
+    @classmethod
+    def eccentric(cls, b, e: Entry, ends, j, C, d, U) -> None:
+        """A belt coupling with an eccentric tension roller (:class:`~beltcalc.sim.eccentric.EccentricBelt`)."""
+        from beltcalc.sim.beltpath import Eccentric
+        from beltcalc.sim.eccentric import EccentricBelt
+
+        if j is None:
+            b.fail(e, "eccentricity", "a tension roller needs a belt between two nodes")
+        if e.raw.get("rigid") is True:
+            b.fail(e, "rigid", "a coupling with an eccentric tension roller cannot be rigid")
+        r1 = b.get(e, "pulley_radius", b.radius.get(ends[0]))
+        if r1 is None:
+            b.fail(e, "pulley_radius", f"give it, or a pitch diameter on node {ends[0]!r}")
+        geo = Eccentric(r1=r1, r2=U * r1, a=b.need(e, "center_distance"), r3=b.need(e, "roller_radius"),
+                        px=b.need(e, "pivot_x"), py=b.need(e, "pivot_y"), delta=b.need(e, "eccentricity"),
+                        theta0=b.get(e, "roller_angle", 0.0))
+        b.add(EccentricBelt(e.name, ends[0], j, C, d, geo))
+        b.torques.append((f"T_{e.name}", e.name))
+
+
+class ShaftKind(Kind):
+    """``[[shaft]]``: a coupling whose stiffness comes from the shaft's geometry and material,
+    its own inertia half to each end node."""
+
+    section = "shaft"
+    keys = {
+        "name": Key("text", "unique name"),
+        "between": Key("names", "[node, node]", True),
+        "diameter": Key("m", "outer diameter", True, low=">0"),
+        "bore": Key("m", "bore diameter (0: solid)", low=">=0"),
+        "length": Key("m", "length between the nodes", True, low=">0"),
+        "material": Key("text", "material of catalogs/materials.toml (G and density)"),
+        "shear_modulus": Key("Pa", "G, instead of a material's", low=">0"),
+        "density": Key("kg/m^3", "density, for the shaft's own inertia (half to each node)", low=">=0"),
+        "damping": Key("N*m*s/rad", "damper d", low=">=0"),
+        "damping_time": Key("s", "stiffness-proportional damping d = beta C", low=">=0"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        from beltcalc.chain import torsional_stiffness
+        from beltcalc.sim.elements import Coupling
+
+        a, c = b.between(e, (2,))
+        D, bore, L = b.need(e, "diameter"), b.get(e, "bore", 0.0), b.need(e, "length")
+        G, rho = b.get(e, "shear_modulus"), b.get(e, "density")
+        material = b.get(e, "material")
+        if material is not None:
+            props = materials().get(material)
+            if props is None:
+                b.fail(e, "material", f"{material!r} is not in catalogs/materials.toml ({', '.join(materials())})")
+            G = props["shear_modulus"] if G is None else G
+            rho = props["density"] if rho is None else rho
+        if G is None:
+            b.fail(e, "shear_modulus", "give the material or the shear modulus")
+        C = torsional_stiffness(D, bore, L, G)
+        beta = b.get(e, "damping_time")
+        d = b.get(e, "damping", 0.0) if beta is None else beta * C
+        b.add(Coupling(e.name, a, c, C, d))
+        b.torques.append((f"T_{e.name}", e.name))
+        if rho:
+            from beltcalc.drive import cylinder_inertia
+
+            J = cylinder_inertia(D, bore, L, rho)
+            for node in (a, c):
+                b.inertia[node] += J / 2
+            b.notes.append(f"shaft {e.name}: C = {C:.5g} N m/rad; its own inertia {J:.4g} kg m^2, half to "
+                           f"{a} and half to {c}")
+
+
+def materials() -> dict:
+    """catalogs/materials.toml: {name: {"shear_modulus": Pa, "density": kg/m^3}} (shared:
+    read only)."""
+    from beltcalc.catalogs import builtin_dir
+
+    return material_table(str(builtin_dir() / "materials.toml"))
+
+
+@lru_cache(maxsize=2)
+def material_table(path: str) -> dict:
+    """The material table at ``path`` in SI floats, read and converted once per process."""
+    from beltcalc.units import parse_quantity
+
+    data = read_drive_toml(Path(path))
+    out = {}
+    for name, props in data.get("materials", {}).items():
+        out[name] = {"shear_modulus": parse_quantity(props["shear_modulus"], "Pa"),
+                     "density": parse_quantity(props["density"], "kg/m^3")}
+    return out
+
+
+class GearKind(Kind):
+    """``[[gear]]``: a rigid gear pair (:class:`~beltcalc.sim.elements.Gear`): one coordinate."""
+
+    section = "gear"
+    keys = {
+        "name": Key("text", "unique name"),
+        "between": Key("names", "[node a, node b]", True),
+        "ratio": Key("", "speed of a / speed of b (phi_b = phi_a / ratio; negative: the pair reverses, as "
+                         "an external gear pair does)", True, low="!=0"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        from beltcalc.sim.elements import Gear
+
+        a, c = b.between(e, (2,))
+        b.add(Gear(a, c, b.need(e, "ratio"), name=e.name))
+
+
+class BeltSpanKind(Kind):
+    """``[[belt_span]]``: a tension-only span of a catalog belt (:class:`~beltcalc.sim.elements.Strand`),
+    or a two-way spring (``tension_only = false``)."""
+
+    section = "belt_span"
+    keys = {
+        "name": Key("text", "unique name"),
+        "from": Key("text", "node it leaves (its pitch circle, or a translating node)", True),
+        "to": Key("text", "node it reaches", True),
+        "belt": Key("text", "belt profile (catalog name)", True),
+        "width": Key("m", "belt width (a catalog width)", True, low=">0"),
+        "length": Key("m", "free span length", True, low=">0"),
+        "pretension": Key("N", "pretension F_0", low=">=0"),
+        "damping": Key("N*s/m", "b; otherwise fitted to the catalog's F_tspec(n) as `beltcalc tension` does", low=">=0"),
+        "tension_only": Key("bool", "true (default): the span goes slack; false: a two-way spring"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        from beltcalc import belt as bm
+        from beltcalc.sim.elements import Coupling, Strand
+
+        (i, r_i), (j, r_j) = b.end_radius(e, "from"), b.end_radius(e, "to")
+        belt = b.lookup(e, "belt", "belt")
+        width, length = b.need(e, "width"), b.need(e, "length")
+        try:
+            row = belt.width_row(width)
+        except BeltcalcError as exc:
+            b.fail(e, "width", exc.message)
+        if row.C_spec is None:
+            b.fail(e, "belt", f"{belt.name} has no C_spec for {width * 1e3:g} mm in its catalog")
+        k = bm.belt_stiffness(row.C_spec, length)
+        damping = b.get(e, "damping")
+        if damping is None:
+            damping, why = cls.damping(b, e, belt, width, length, i if r_i != 1.0 else j)
+            b.notes.append(f"belt span {e.name}: k = C_spec / L = {k:.5g} N/m, b = {damping:.4g} N s/m {why}")
+        F0 = b.get(e, "pretension", 0.0)
+        b.strand_mass(e, (i, r_i), (j, r_j), row.w_spec, length)
+        if row.F_Tadm:
+            b.limits[e.name] = (row.F_Tadm, "F_Tadm")
+        if e.raw.get("tension_only", True) is False:
+            # one two-way spring k = C_spec / L (the substitute model, Wojtkowiak et al. eq. 5):
+            # C (phi_i - U phi_j) with C = k r_i^2, U = r_j / r_i: the torque r_i F
+            b.add(Coupling(e.name, i, j, k * r_i ** 2, damping * r_i ** 2, r_j / r_i))
+            b.spans[e.name] = r_i
+            return
+        b.add(Strand(e.name, i, j, r_i, r_j, k, damping, F0))
+
+    @classmethod
+    def damping(cls, b, e: Entry, belt, width: float, length: float, pulley: str) -> tuple[float, str]:
+        """b_TB as `beltcalc tension` finds it: fitted to F_tspec(n) on the pulley the span
+        leaves (Wojtkowiak et al. 2021, section 3.2), or the catalog's value."""
+        from beltcalc import belt as bm
+
+        if belt.F_tspec and pulley in b.radius:
+            D = 2 * b.radius[pulley]
+            z = max(1, round(math.pi * D / belt.pitch))
+            z_e = bm.teeth_in_mesh(z, z, belt.pitch, length, belt.z_e_max)
+            fit = bm.damping_from_tooth_load(belt.F_tspec, D, width, z_e)
+            how = f"fitted to the catalog's F_tspec(n) on {pulley}, D = {D * 1e3:.4g} mm, z_e = {z_e:g}"
+            b.fits[e.name] = (fit.r_squared, how)
+            return fit.damping, f"({how}, R^2 = {fit.r_squared:.3f})"
+        if belt.damping is not None:
+            return belt.damping, f"(catalog value: {belt.damping_source or belt.source})"
+        b.fail(e, "damping", f"{belt.name} has no F_tspec(n) table and no damping value; give damping")
+
+
+class ChainStrandKind(Kind):
+    """``[[chain_strand]]``: a tension-only strand of a catalog chain (:class:`~beltcalc.sim.elements.Strand`)."""
+
+    section = "chain_strand"
+    keys = {
+        "name": Key("text", "unique name"),
+        "from": Key("text", "node (sprocket) it leaves", True),
+        "to": Key("text", "node (sprocket) it reaches", True),
+        "chain": Key("text", "chain (catalogs/chains.toml name, e.g. 10B-1)", True),
+        "length": Key("m", "free strand length", True, low=">0"),
+        "pretension": Key("N", "pretension F_0", low=">=0"),
+        "stiffness": Key("N", "EA: the force per unit strain (chains publish none: the file must say)", True, low=">0"),
+        "mass": Key("kg/m", "mass per length, instead of the catalog's", low=">=0"),
+        "breaking_load": Key("N", "breaking load, instead of the catalog's", low=">0"),
+        "damping": Key("N*s/m", "b", low=">=0"),
+        "damping_time": Key("s", "stiffness-proportional damping b = beta c", low=">=0"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        from beltcalc.chain import strand_stiffness
+        from beltcalc.sim.elements import Strand
+
+        (i, r_i), (j, r_j) = b.end_radius(e, "from"), b.end_radius(e, "to")
+        chain = b.lookup(e, "chain", "chain")
+        length = b.need(e, "length")
+        c = strand_stiffness(b.need(e, "stiffness"), length)
+        beta = b.get(e, "damping_time")
+        damping = b.get(e, "damping", 0.0) if beta is None else beta * c
+        b.add(Strand(e.name, i, j, r_i, r_j, c, damping, b.get(e, "pretension", 0.0)))
+        b.limits[e.name] = (b.get(e, "breaking_load", chain.breaking_load), "breaking load")
+        b.strand_mass(e, (i, r_i), (j, r_j), b.get(e, "mass", chain.mass), length)
+
+
+class LoadKind(Kind):
+    """``[[load]]``: a load torque (:class:`~beltcalc.sim.elements.Load`): constant, a sine in
+    time or in the node's angle, a table."""
+
+    section = "load"
+    node_key = "node"
+    keys = {
+        "name": Key("text", "unique name"),
+        "node": Key("text", "node it acts on", True),
+        "torque": Key(TORQUE, "constant part, against the motion"),
+        "amplitude": Key(TORQUE, "amplitude of the sine"),
+        "frequency": Key("rad/s|Hz", "frequency of the sine in time", low=">=0"),
+        "order": Key("", "instead of frequency: the sine locked to the node's angle, sin(order phi)", low=">0"),
+        "phase": Key("rad", "phase of the sine"),
+        "start": Key("s", "the sine acts from here on (torque from 0; a later step: table)", low=">=0"),
+        "table": Key("table:s,N*m|N", "tabulated part [[t, torque], ...]"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        from beltcalc.sim.elements import Load
+
+        node = b.node_name(e, "node")
+        freq = b.get_unit(e, "frequency")
+        omega = 0.0
+        if freq[0] is not None:
+            omega = freq[0] * (2 * math.pi if freq[1] == "Hz" else 1.0)
+        order = b.get(e, "order")
+        if order is not None and freq[0]:
+            b.fail(e, "order", "give frequency (in time) or order (in the shaft angle), not both")
+        b.add(Load(node, b.get(e, "torque", 0.0), b.get(e, "amplitude", 0.0), omega, b.get(e, "phase", 0.0),
+                   in_angle=order is not None, table=tuple(b.get(e, "table", ())), start=b.get(e, "start", 0.0),
+                   order=1.0 if order is None else order))

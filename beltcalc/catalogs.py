@@ -25,7 +25,6 @@ from typing import Iterable
 from beltcalc.errors import CatalogError, UnknownNameError, did_you_mean
 from beltcalc.schema import Entries, Flag, List, Named, Names, Quantity, Record, Section, Text, TomlFile, Whole
 from beltcalc.tomlsafe import MAX_NAME, quote, shown_path
-from beltcalc.tomlsafe import read_toml  # noqa: F401  (the drive files read it here until they use the schema)
 
 
 def builtin_dir() -> Path:

@@ -322,7 +322,7 @@ def test_a_new_kind_is_one_class_and_one_registry_line(tmp_path, monkeypatch):
     # class declares the section, the keys and the build; one line of ELEMENTS makes drive
     # files read it, check its keys, address its values and build it (a load against the
     # motion: the free node decelerates at T / J)
-    from beltcalc.sim.drivefile.keys import Key
+    from beltcalc.schema import Quantity, Text
     from beltcalc.sim.drivefile.kinds import Kind
     from beltcalc.sim.drivefile.registry import ELEMENTS
     from beltcalc.sim.elements import Load
@@ -330,8 +330,8 @@ def test_a_new_kind_is_one_class_and_one_registry_line(tmp_path, monkeypatch):
     class BrakeKind(Kind):
         section = "brake"
         node_key = "node"
-        keys = {"name": Key("text", "unique name"), "node": Key("text", "node it brakes", True),
-                "torque": Key("N*m|N", "braking torque", True, low=">=0")}
+        keys = {"name": Text(help="unique name"), "node": Text(help="node it brakes", required=True),
+                "torque": Quantity("N*m|N", help="braking torque", required=True, low=">=0")}
 
         @classmethod
         def build(cls, b, e):

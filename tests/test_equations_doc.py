@@ -36,7 +36,6 @@ _spec.loader.exec_module(eq)
 NOT_YET_CONVERTED = frozenset({
     "beltcalc/sim/elements",
     "beltcalc/sim/network",
-    "beltcalc/sim/drivefile",
     "beltcalc/sim/scenes/sewing",
     "beltcalc/sim/scenes/base",
     "beltcalc/sim/batch",

@@ -1001,7 +1001,7 @@ DEEP = b"a = " + b"[" * 5000 + b"]" * 5000 + b"\n"
 @pytest.mark.parametrize("args", [["simulate", "drive", "deep.toml"], ["modes", "deep.toml"],
                                   ["response", "deep.toml"], ["campbell", "deep.toml"]])
 def test_a_drive_file_nested_5000_levels_is_one_line_naming_it(tmp_path, args):
-    # was 'internal error: RecursionError' (issue 12); read through catalogs.read_toml now
+    # was 'internal error: RecursionError' (issue 12); read through tomlsafe.read_toml now
     out = run(Case(args, {"deep.toml": DEEP}), tmp_path)
     _one_error(out, 1, "deep.toml", "nested too deeply")
 

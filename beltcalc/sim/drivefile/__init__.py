@@ -23,12 +23,12 @@ from which the reader (``reader.py``), the builder (``builder.py``), the writer
 """
 
 from beltcalc.sim.drivefile.api import drive_names, drive_path, load_drive, simulate
-from beltcalc.sim.drivefile.keys import DriveFileError, DriveParam, Entry, Key
+from beltcalc.sim.drivefile.keys import DriveFileError, DriveParam, Entry
 from beltcalc.sim.drivefile.motors import MAX_RATED_SLIP, pole_pairs_from_speed
 from beltcalc.sim.drivefile.reader import Drive, DriveFile, undamped_frequencies
 from beltcalc.sim.drivefile.registry import ELEMENTS, KEYS, KIND_KEYS, KINDS, SECTIONS
 from beltcalc.sim.drivefile.write import to_toml
 
 __all__ = ["ELEMENTS", "KEYS", "KINDS", "KIND_KEYS", "MAX_RATED_SLIP", "SECTIONS", "Drive", "DriveFile",
-           "DriveFileError", "DriveParam", "Entry", "Key", "drive_names", "drive_path", "load_drive",
+           "DriveFileError", "DriveParam", "Entry", "drive_names", "drive_path", "load_drive",
            "pole_pairs_from_speed", "simulate", "to_toml", "undamped_frequencies"]

@@ -1,15 +1,25 @@
 """The builder of a drive file: it hands each entry to its kind (``ELEMENTS``) with the values
-converted once to SI floats (``--set`` values first, each checked against its key's range),
-and collects the nodes, the elements and what the report follows (notes, torques, strand
-limits, belt fits, motor signals, the inputs used)."""
+read once by their keys' fields (:mod:`beltcalc.schema`) to SI floats (``--set`` values
+first, each checked against its key's bounds), and collects the nodes, the elements and what
+the report follows (notes, torques, strand limits, belt fits, motor signals, the inputs
+used).
+
+References:
+
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission": a strand's
+    mass lumped into the sprockets it joins.
+"""
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from functools import lru_cache
 
 from beltcalc.errors import BeltcalcError, InputError, did_you_mean
-from beltcalc.sim.drivefile.keys import Entry, Key, convert, out_of_range
+from beltcalc.schema import SI_TEXTS, TEXTS, Context, Quantity
+from beltcalc.sim.drivefile.keys import Entry
 from beltcalc.sim.drivefile.registry import ELEMENTS, kind_of
 
 _MISSING = object()          # a key the file does not give
@@ -84,30 +94,26 @@ class Builder:
     def get(self, e: Entry, key: str, default=None):
         """The SI value of ``key`` of entry ``e`` (an override first), or ``default``; a
         value out of its key's range is refused, naming the file's element and key (or the
-        address, when the value was set). What the file itself gives (its unit, address and
-        checked value) is worked out on the first build and kept on the drive file: a study
-        builds the drive thousands of times with a few values changed."""
+        address, when the value was set). What the file itself gives (its field, in the unit
+        of the node it acts on; its address and checked value) is worked out on the first
+        build and kept on the drive file: a study builds the drive thousands of times with a
+        few values changed."""
         hit = self.f.file_values.get((id(e), key))
         if hit is None:
-            spec = kind_of(e.section).keys[key]
-            unit = self.f.unit(e, key)
+            spec = self.f.field_of(e, key)
             value = _MISSING
             if key in e.raw:
-                try:
-                    value = convert(e.raw[key], Key(unit, spec.help), si_numbers=self.f.generated)
+                try:           # (a FieldError is a ValueError; its bounds are checked too)
+                    value = spec.read(e.raw[key], self.context())
                 except (ValueError, TypeError) as exc:
                     self.f.fail(e.where, key, str(exc))
-                problem = out_of_range(value, spec, unit)
-                if problem:
-                    self.f.fail(e.where, key, problem)
-            hit = self.f.file_values[(id(e), key)] = (spec, unit, key if e.section == "drive" else f"{e.name}.{key}",
-                                                      value)
-        spec, unit, address, value = hit
+            hit = self.f.file_values[(id(e), key)] = (spec, key if e.section == "drive" else f"{e.name}.{key}", value)
+        spec, address, value = hit
         if address in self.values:
             value = self.values[address]
             value = value[0] if isinstance(value, tuple) else value
             self.used[address] = (value, "set")
-            problem = out_of_range(value, spec, unit)
+            problem = spec.bound_problem(value, spec.unit) if isinstance(spec, Quantity) else ""
             if problem:
                 raise InputError(problem, param=address, scope="scene")
             return value
@@ -118,7 +124,8 @@ class Builder:
         return value
 
     def get_unit(self, e: Entry, key: str):
-        """(SI value, unit) of a key with alternative dimensions, or (None, None)."""
+        """(SI value, unit) of a key with alternative dimensions, or (None, None); the file's
+        value checked against the key's bounds."""
         spec = kind_of(e.section).keys[key]
         address = f"{e.name}.{key}"
         if address in self.values:
@@ -127,9 +134,14 @@ class Builder:
         if key not in e.raw:
             return None, None
         try:
-            return convert(e.raw[key], spec, keep_unit=True, si_numbers=self.f.generated)
+            return replace(spec, keep_unit=True).read(e.raw[key], self.context())
         except (ValueError, TypeError) as exc:
             self.f.fail(e.where, key, str(exc))
+
+    def context(self) -> Context:
+        """What the file's values are read in: quantity texts, or SI numbers too in a drive
+        built in code."""
+        return Context(SI_TEXTS if self.f.generated else TEXTS)
 
     def need(self, e: Entry, key: str):
         """As :meth:`get`, and the key missing is an error."""
@@ -180,8 +192,8 @@ class Builder:
 
     def strand_mass(self, e: Entry, end_i, end_j, per_length: float | None, length: float) -> None:
         """Half the strand's mass m L moves with each end: inertia m L r^2 / 2 on a pulley or
-        sprocket of pitch radius r, mass m L / 2 on a translating node (Rusek & Popenda's
-        lumping of the chain's mass into the sprockets)."""
+        sprocket of pitch radius r, mass m L / 2 on a translating node (the chain's mass
+        lumped into the sprockets, as [RP] lumps it)."""
         if per_length is None:
             self.unweighed.append(e.name)
             return

@@ -18,27 +18,33 @@ import re
 import sys
 from pathlib import Path
 
-from beltcalc.sim.drivefile.keys import Key
+from beltcalc.schema import Field, Flag, Names, Quantity, Table, Text, Whole
 from beltcalc.sim.drivefile.registry import kind_of, sections
 
 PAGE = Path(__file__).resolve().parents[3] / "docs" / "drive_files.md"
 _BLOCK = re.compile(r"(<!-- keys: (\w+) -->\n)(.*?)(<!-- end keys -->)", re.S)
 
 
-def unit_text(unit: str) -> str:
-    """A key's unit as the docs write it: ``N*m|N`` is ``N*m or N``, ``table:s,N*m|N`` is
-    ``table of [s, N*m or N]``.
+#: the docs' unit column of a key that is no quantity, by its field
+TYPE_TEXT = {Text: "text", Whole: "int", Flag: "bool", Names: "names"}
 
-    >>> unit_text("table:s,rad/s^2|m/s^2")
+
+def unit_text(spec: Field) -> str:
+    """A key's unit as the docs write it: a quantity's SI unit, ``N*m|N`` as ``N*m or N``; a
+    table as ``table of [s, N*m or N]``; else its type (``text``, ``int``, ``bool``,
+    ``names``).
+
+    >>> unit_text(Table(columns=(Quantity("s"), Quantity("rad/s^2|m/s^2"))))
     'table of [s, rad/s^2 or m/s^2]'
     """
-    if unit.startswith("table:"):
-        x, y = unit[6:].split(",")
-        return f"table of [{unit_text(x)}, {unit_text(y)}]"
-    return unit.replace("|", " or ")
+    if isinstance(spec, Table):
+        return f"table of [{', '.join(unit_text(c) for c in spec.columns)}]"
+    if isinstance(spec, Quantity):
+        return spec.unit.replace("|", " or ")
+    return TYPE_TEXT[type(spec)]
 
 
-def required_text(spec: Key) -> str:
+def required_text(spec: Field) -> str:
     """``yes``, ``with `other``` (needed when another key is given), or nothing."""
     if spec.required:
         return "yes"
@@ -48,7 +54,7 @@ def required_text(spec: Key) -> str:
 def key_table(section: str) -> str:
     """The markdown table of ``section``'s keys, in the registry's order."""
     rows = ["| key | unit | required | meaning |", "|---|---|---|---|"]
-    rows += [f"| `{key}` | {unit_text(spec.unit)} | {required_text(spec)} | {spec.help} |"
+    rows += [f"| `{key}` | {unit_text(spec)} | {required_text(spec)} | {spec.help} |"
              for key, spec in kind_of(section).keys.items()]
     return "\n".join(rows)
 

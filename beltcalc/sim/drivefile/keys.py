@@ -1,19 +1,20 @@
-"""The keys of drive files: :class:`Key` (a key's SI unit, help, whether it is required and
-its range), the :class:`Entry` of a file's element, the :class:`DriveParam` that ``--set``
-addresses, and the conversion of a raw TOML value to SI (:func:`convert`), the one place a
-drive file's text becomes numbers. The keys themselves are declared by the element kinds
-(:mod:`beltcalc.sim.drivefile.kinds`, :mod:`beltcalc.sim.drivefile.motors`)."""
+"""What drive files are made of: the :class:`Entry` of a file's element, the
+:class:`DriveParam` that ``--set`` addresses, and reading a file's TOML
+(:func:`read_drive_toml`). The keys are fields of the one typed schema
+(:mod:`beltcalc.schema`: :class:`~beltcalc.schema.Quantity`, :class:`~beltcalc.schema.Whole`,
+:class:`~beltcalc.schema.Flag`, :class:`~beltcalc.schema.Text`, :class:`~beltcalc.schema.Names`,
+:class:`~beltcalc.schema.Table`), declared by the element kinds
+(:mod:`beltcalc.sim.drivefile.kinds`, :mod:`beltcalc.sim.drivefile.motors`), which read a
+drive file's texts into SI numbers."""
 
 from __future__ import annotations
 
-import math
 import os
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 
-from beltcalc.catalogs import read_toml, shown_path
 from beltcalc.errors import CatalogError
+from beltcalc.tomlsafe import read_toml, shown_path
 
 
 class DriveFileError(CatalogError):
@@ -21,24 +22,7 @@ class DriveFileError(CatalogError):
     and the key (exit 1)."""
 
 
-@dataclass(frozen=True)
-class Key:
-    """A key a section accepts. ``unit``: SI unit (``""`` a plain number, ``"a|b"`` either
-    dimension), ``"int"``, ``"bool"``, ``"text"``, ``"names"`` (node names), or ``"table:X,Y"``
-    (a list of [X, Y] quantity pairs)."""
-
-    unit: str
-    help: str
-    required: bool = False
-    low: str = ""          # "": any value; ">0" positive; ">=0" not negative; "!=0" not zero
-    when: str = ""         # needed when this other key is given (the docs' "required" column)
-
-    @property
-    def scalar(self) -> bool:
-        """Whether ``--set ELEMENT.KEY=...`` can give it."""
-        return self.unit not in ("names", "bool") and not self.unit.startswith("table:")
-
-
+#: the unit of a torque that acts on a rotating node, or a force on a translating one
 TORQUE = "N*m|N"
 
 
@@ -59,7 +43,9 @@ class Entry:
 @dataclass(frozen=True)
 class DriveParam:
     """A value of the file that ``--set``/``--sweep`` can address: ``ELEMENT.KEY`` (or a
-    timing name), its SI unit (as :class:`Key`), the file's text (None: not given) and help."""
+    timing name), its unit (a quantity's SI unit, ``""`` a plain number, ``"a|b"`` either
+    dimension; ``"int"`` a whole number, ``"text"`` a text), the file's text (None: not
+    given) and help."""
 
     name: str
     unit: str
@@ -68,7 +54,7 @@ class DriveParam:
 
 
 def read_drive_toml(path: Path) -> dict:
-    """The drive file ``path`` read by :func:`beltcalc.catalogs.read_toml` (bounded size and
+    """The drive file ``path`` read by :func:`beltcalc.tomlsafe.read_toml` (bounded size and
     depth: a file nested 5,000 levels deep is one line, not a RecursionError), every
     failure a :class:`DriveFileError` naming the file."""
     try:
@@ -84,86 +70,3 @@ def text_of(value) -> str | None:
     if value is None:
         return None
     return str(value)
-
-
-def out_of_range(value, spec: Key, unit: str) -> str:
-    """Why ``value`` is outside its key's range, or ``""``."""
-    if not spec.low or not isinstance(value, (int, float)) or isinstance(value, bool):
-        return ""
-    bad = {">0": value <= 0, ">=0": value < 0, "!=0": value == 0}[spec.low]
-    if not bad:
-        return ""
-    u = "" if unit in ("", "int") else " " + unit.split("|")[0]
-    if spec.low == "!=0":
-        return f"{value:g}{u} is not allowed; it must not be 0{u} (negative: the pair turns the other way)"
-    return f"{value:g}{u} is not allowed; it must be {spec.low[0:-1]} 0{u}"
-
-
-def convert(raw, spec: Key, keep_unit: bool = False, si_numbers: bool = False):
-    """A raw TOML value as its SI value (ValueError with the reason otherwise). A bare number
-    is a plain number; for a quantity of a dimension it is refused (a file writes the unit),
-    unless ``si_numbers`` (a drive built in code, in SI)."""
-    from beltcalc.units import QuantityError, example_unit, parse_quantity, parse_quantity_any
-
-    unit = spec.unit
-    if unit == "text":
-        if not isinstance(raw, str):
-            raise ValueError(f"must be a text, not {raw!r}")
-        return raw
-    if unit == "bool":
-        if not isinstance(raw, bool):
-            raise ValueError(f"must be true or false, not {raw!r}")
-        return raw
-    if unit == "int":
-        if isinstance(raw, bool) or not isinstance(raw, int):
-            raise ValueError(f"must be a whole number, not {raw!r}")
-        return raw
-    if unit.startswith("table:"):
-        x_unit, y_unit = unit[6:].split(",")
-        if not isinstance(raw, list) or not raw or not all(isinstance(p, list) and len(p) == 2 for p in raw):
-            raise ValueError("must be a list of [time, value] pairs, e.g. [[\"0 s\", \"0 N*m\"], [\"1 s\", \"5 N*m\"]]")
-        out = []
-        for t, v in raw:
-            out.append((convert(t, Key(x_unit, ""), si_numbers=si_numbers),
-                        convert(v, Key(y_unit, ""), si_numbers=si_numbers)))
-        times = [t for t, _ in out]
-        if any(b < a for a, b in zip(times, times[1:])):
-            raise ValueError("the times must rise (a time may repeat for a jump)")
-        return tuple(out)
-    if isinstance(raw, bool) or not isinstance(raw, (str, int, float)):
-        raise ValueError(f"must be a quantity text such as '5 {example_unit(unit.split('|')[0])}', not {raw!r}")
-    if isinstance(raw, str) and unit in ("", "1"):
-        raise ValueError(f"must be a plain number, not the text {raw!r}: write it without quotes "
-                         "(ratios, factors and slips are numbers, docs/drive_files.md)")
-    if not isinstance(raw, str) and unit not in ("", "1"):
-        if si_numbers:
-            value = float(raw)
-            return (value, unit.split("|")[0]) if keep_unit and "|" in unit else value
-        example = raw if isinstance(raw, int) or math.isfinite(raw) else 1.0    # "inf s" is refused too
-        texts = " or ".join(f'"{example:g} {example_unit(u)}"' for u in unit.split("|"))
-        raise ValueError(f"{raw!r} needs its unit: write it as a text, e.g. {texts}")
-    try:
-        if isinstance(raw, str):
-            got = quantity(raw, unit)
-        else:
-            got = parse_quantity_any(raw, tuple(unit.split("|"))) if "|" in unit else parse_quantity(raw, unit)
-        if "|" in unit:
-            value, u = got
-            return (value, u) if keep_unit else value
-        return got
-    except QuantityError as exc:
-        raise ValueError(str(exc)) from None
-
-
-@lru_cache(maxsize=4096)
-def quantity(raw: str, unit: str):
-    """The text ``raw`` read as a quantity of ``unit`` (:func:`~beltcalc.units.parse_quantity`; of
-    one of ``a|b``: (value, unit), :func:`~beltcalc.units.parse_quantity_any`). Each text
-    is read by pint once per process: a build reads every value of the file, and a run
-    builds its drive several times (the rigid notes, the error estimate, a sweep's points).
-    A refusal is not kept: it is raised again, the same, on every call."""
-    from beltcalc.units import parse_quantity, parse_quantity_any
-
-    if "|" in unit:
-        return parse_quantity_any(raw, tuple(unit.split("|")))
-    return parse_quantity(raw, unit)

@@ -1,13 +1,21 @@
-"""The element kinds of drive files: each declares its section, its keys (:class:`Key`: unit,
-range, default, help) and how an entry of it builds (:meth:`Kind.build`: the elements it
-adds to the :class:`~beltcalc.sim.network.Network`, and what the report follows). The
-motors are in :mod:`beltcalc.sim.drivefile.motors`; the registry of them all,
-``ELEMENTS``, in :mod:`beltcalc.sim.drivefile.registry`.
+"""The element kinds of drive files: each declares its section, its keys (fields of the one
+typed schema, :mod:`beltcalc.schema`: a :class:`~beltcalc.schema.Quantity` with its SI unit
+and bounds, a :class:`~beltcalc.schema.Text`, ...; each with its help) and how an entry of it
+builds (:meth:`Kind.build`: the elements it adds to the
+:class:`~beltcalc.sim.network.Network`, and what the report follows). The motors are in
+:mod:`beltcalc.sim.drivefile.motors`; the registry of them all, ``ELEMENTS``, in
+:mod:`beltcalc.sim.drivefile.registry`.
 
 A kind builds through the builder it is given (:class:`beltcalc.sim.drivefile.builder.Builder`):
 ``b.get(e, key, default)``, ``b.need(e, key)`` (SI values, checked, ``--set`` first),
 ``b.node_name``, ``b.between``, ``b.lookup`` (a catalog entry), ``b.fail(e, key, what)``, and
 ``b.add(element)``; its records (``notes``, ``torques``, ``limits``, ...) are the report's.
+
+References:
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: the belt's substitute spring and its damping.
 """
 
 from __future__ import annotations
@@ -18,7 +26,8 @@ from pathlib import Path
 from typing import ClassVar
 
 from beltcalc.errors import BeltcalcError
-from beltcalc.sim.drivefile.keys import TORQUE, Entry, Key, read_drive_toml
+from beltcalc.schema import Field, Flag, Names, Quantity, Table, Text, Whole
+from beltcalc.sim.drivefile.keys import TORQUE, Entry, read_drive_toml
 
 
 class Kind:
@@ -31,7 +40,7 @@ class Kind:
     node it drives)."""
 
     section: ClassVar[str]
-    keys: ClassVar[dict[str, Key]]
+    keys: ClassVar[dict[str, Field]]
     node_key: ClassVar[str] = ""
     shares_node_name: ClassVar[bool] = False
 
@@ -57,10 +66,10 @@ class Head(Kind):
 
     section = "drive"
     keys = {
-        "title": Key("text", "title of the report"),
-        "t_end": Key("s", "simulated time", True, low=">0"),
-        "samples": Key("int", "output samples (>= 2)"),
-        "window": Key("s", "start of the steady window for means and amplitudes", low=">=0"),
+        "title": Text(help="title of the report"),
+        "t_end": Quantity("s", help="simulated time", required=True, low=">0"),
+        "samples": Whole(help="output samples (>= 2)"),
+        "window": Quantity("s", help="start of the steady window for means and amplitudes", low=">=0"),
     }
 
 
@@ -70,13 +79,13 @@ class NodeKind(Kind):
 
     section = "node"
     keys = {
-        "name": Key("text", "unique name", True),
-        "inertia": Key("kg*m^2", "rotating inertia (0: massless, condensed out)", low=">=0"),
-        "mass": Key("kg", "a translating mass instead of an inertia", low=">=0"),
-        "teeth": Key("int", "teeth of the pulley or sprocket (pitch diameter from the belt or chain)"),
-        "belt": Key("text", "belt profile of the pulley (catalog name), for its pitch diameter"),
-        "chain": Key("text", "chain of the sprocket (catalog name), for its pitch diameter"),
-        "pitch_diameter": Key("m", "pitch diameter where strands leave the node", low=">0"),
+        "name": Text(help="unique name", required=True),
+        "inertia": Quantity("kg*m^2", help="rotating inertia (0: massless, condensed out)", low=">=0"),
+        "mass": Quantity("kg", help="a translating mass instead of an inertia", low=">=0"),
+        "teeth": Whole(help="teeth of the pulley or sprocket (pitch diameter from the belt or chain)"),
+        "belt": Text(help="belt profile of the pulley (catalog name), for its pitch diameter"),
+        "chain": Text(help="chain of the sprocket (catalog name), for its pitch diameter"),
+        "pitch_diameter": Quantity("m", help="pitch diameter where strands leave the node", low=">0"),
     }
 
     @classmethod
@@ -116,23 +125,24 @@ class CouplingKind(Kind):
     section = "coupling"
     node_key = "between"
     keys = {
-        "name": Key("text", "unique name"),
-        "between": Key("names", "[node, node] (one node: to the frame)", True),
-        "stiffness": Key("N*m/rad|N/m", "spring C", True, low=">=0"),
-        "damping": Key("N*m*s/rad|N*s/m", "damper d", low=">=0"),
-        "ratio": Key("", "U: the torque is C (phi_a - U phi_b) + d (omega_a - U omega_b)", low=">0"),
-        "rigid": Key("bool", "join the two nodes rigidly (phi_b = phi_a / U); the error of doing so is printed"),
-        "eccentricity": Key("m", "an eccentric tension roller on the belt's slack span: the pivot's offset Delta "
-                                 "from the roller's centre (docs/eccentric_roller.md); 0: none", low=">=0"),
-        "roller_radius": Key("m", "the tension roller's radius r3", low=">0", when="eccentricity"),
-        "pulley_radius": Key("m", "pitch radius r1 of the first node's pulley (r2 = ratio x r1) [default: the "
-                                  "node's pitch diameter / 2]", low=">0"),
-        "center_distance": Key("m", "centre distance a of the two pulleys", low=">0", when="eccentricity"),
-        "pivot_x": Key("m", "the roller's pivot, along the line from the first pulley to the second",
-                       when="eccentricity"),
-        "pivot_y": Key("m", "the roller's pivot, across that line (negative: under the slack span)",
-                       when="eccentricity"),
-        "roller_angle": Key("rad", "the eccentric's angle theta_0 when the first node's angle is 0"),
+        "name": Text(help="unique name"),
+        "between": Names(help="[node, node] (one node: to the frame)", required=True),
+        "stiffness": Quantity("N*m/rad|N/m", help="spring C", required=True, low=">=0"),
+        "damping": Quantity("N*m*s/rad|N*s/m", help="damper d", low=">=0"),
+        "ratio": Quantity("", help="U: the torque is C (phi_a - U phi_b) + d (omega_a - U omega_b)", low=">0"),
+        "rigid": Flag(help="join the two nodes rigidly (phi_b = phi_a / U); the error of doing so is printed"),
+        "eccentricity": Quantity("m", help="an eccentric tension roller on the belt's slack span: the pivot's "
+                                           "offset Delta from the roller's centre (docs/eccentric_roller.md); 0: none",
+                                 low=">=0"),
+        "roller_radius": Quantity("m", help="the tension roller's radius r3", low=">0", when="eccentricity"),
+        "pulley_radius": Quantity("m", help="pitch radius r1 of the first node's pulley (r2 = ratio x r1) "
+                                            "[default: the node's pitch diameter / 2]", low=">0"),
+        "center_distance": Quantity("m", help="centre distance a of the two pulleys", low=">0", when="eccentricity"),
+        "pivot_x": Quantity("m", help="the roller's pivot, along the line from the first pulley to the second",
+                            when="eccentricity"),
+        "pivot_y": Quantity("m", help="the roller's pivot, across that line (negative: under the slack span)",
+                            when="eccentricity"),
+        "roller_angle": Quantity("rad", help="the eccentric's angle theta_0 when the first node's angle is 0"),
     }
 
     @classmethod
@@ -182,16 +192,16 @@ class ShaftKind(Kind):
 
     section = "shaft"
     keys = {
-        "name": Key("text", "unique name"),
-        "between": Key("names", "[node, node]", True),
-        "diameter": Key("m", "outer diameter", True, low=">0"),
-        "bore": Key("m", "bore diameter (0: solid)", low=">=0"),
-        "length": Key("m", "length between the nodes", True, low=">0"),
-        "material": Key("text", "material of catalogs/materials.toml (G and density)"),
-        "shear_modulus": Key("Pa", "G, instead of a material's", low=">0"),
-        "density": Key("kg/m^3", "density, for the shaft's own inertia (half to each node)", low=">=0"),
-        "damping": Key("N*m*s/rad", "damper d", low=">=0"),
-        "damping_time": Key("s", "stiffness-proportional damping d = beta C", low=">=0"),
+        "name": Text(help="unique name"),
+        "between": Names(help="[node, node]", required=True),
+        "diameter": Quantity("m", help="outer diameter", required=True, low=">0"),
+        "bore": Quantity("m", help="bore diameter (0: solid)", low=">=0"),
+        "length": Quantity("m", help="length between the nodes", required=True, low=">0"),
+        "material": Text(help="material of catalogs/materials.toml (G and density)"),
+        "shear_modulus": Quantity("Pa", help="G, instead of a material's", low=">0"),
+        "density": Quantity("kg/m^3", help="density, for the shaft's own inertia (half to each node)", low=">=0"),
+        "damping": Quantity("N*m*s/rad", help="damper d", low=">=0"),
+        "damping_time": Quantity("s", help="stiffness-proportional damping d = beta C", low=">=0"),
     }
 
     @classmethod
@@ -252,10 +262,11 @@ class GearKind(Kind):
 
     section = "gear"
     keys = {
-        "name": Key("text", "unique name"),
-        "between": Key("names", "[node a, node b]", True),
-        "ratio": Key("", "speed of a / speed of b (phi_b = phi_a / ratio; negative: the pair reverses, as "
-                         "an external gear pair does)", True, low="!=0"),
+        "name": Text(help="unique name"),
+        "between": Names(help="[node a, node b]", required=True),
+        "ratio": Quantity("", help="speed of a / speed of b (phi_b = phi_a / ratio; negative: the pair reverses, "
+                                   "as an external gear pair does)", required=True, low="!=0",
+                          hint="negative: the pair turns the other way"),
     }
 
     @classmethod
@@ -272,15 +283,16 @@ class BeltSpanKind(Kind):
 
     section = "belt_span"
     keys = {
-        "name": Key("text", "unique name"),
-        "from": Key("text", "node it leaves (its pitch circle, or a translating node)", True),
-        "to": Key("text", "node it reaches", True),
-        "belt": Key("text", "belt profile (catalog name)", True),
-        "width": Key("m", "belt width (a catalog width)", True, low=">0"),
-        "length": Key("m", "free span length", True, low=">0"),
-        "pretension": Key("N", "pretension F_0", low=">=0"),
-        "damping": Key("N*s/m", "b; otherwise fitted to the catalog's F_tspec(n) as `beltcalc tension` does", low=">=0"),
-        "tension_only": Key("bool", "true (default): the span goes slack; false: a two-way spring"),
+        "name": Text(help="unique name"),
+        "from": Text(help="node it leaves (its pitch circle, or a translating node)", required=True),
+        "to": Text(help="node it reaches", required=True),
+        "belt": Text(help="belt profile (catalog name)", required=True),
+        "width": Quantity("m", help="belt width (a catalog width)", required=True, low=">0"),
+        "length": Quantity("m", help="free span length", required=True, low=">0"),
+        "pretension": Quantity("N", help="pretension F_0", low=">=0"),
+        "damping": Quantity("N*s/m", help="b; otherwise fitted to the catalog's F_tspec(n) as `beltcalc tension` does",
+                            low=">=0"),
+        "tension_only": Flag(help="true (default): the span goes slack; false: a two-way spring"),
     }
 
     @classmethod
@@ -307,7 +319,7 @@ class BeltSpanKind(Kind):
         if row.F_Tadm:
             b.limits[e.name] = (row.F_Tadm, "F_Tadm")
         if e.raw.get("tension_only", True) is False:
-            # one two-way spring k = C_spec / L (the substitute model, Wojtkowiak et al. eq. 5):
+            # one two-way spring k = C_spec / L (the substitute model, [W21 eq. 5]):
             # C (phi_i - U phi_j) with C = k r_i^2, U = r_j / r_i: the torque r_i F
             b.add(Coupling(e.name, i, j, k * r_i ** 2, damping * r_i ** 2, r_j / r_i))
             b.spans[e.name] = r_i
@@ -317,7 +329,7 @@ class BeltSpanKind(Kind):
     @classmethod
     def damping(cls, b, e: Entry, belt, width: float, length: float, pulley: str) -> tuple[float, str]:
         """b_TB as `beltcalc tension` finds it: fitted to F_tspec(n) on the pulley the span
-        leaves (Wojtkowiak et al. 2021, section 3.2), or the catalog's value."""
+        leaves ([W21 sec. 3.2]), or the catalog's value."""
         from beltcalc import belt as bm
 
         if belt.F_tspec and pulley in b.radius:
@@ -338,17 +350,18 @@ class ChainStrandKind(Kind):
 
     section = "chain_strand"
     keys = {
-        "name": Key("text", "unique name"),
-        "from": Key("text", "node (sprocket) it leaves", True),
-        "to": Key("text", "node (sprocket) it reaches", True),
-        "chain": Key("text", "chain (catalogs/chains.toml name, e.g. 10B-1)", True),
-        "length": Key("m", "free strand length", True, low=">0"),
-        "pretension": Key("N", "pretension F_0", low=">=0"),
-        "stiffness": Key("N", "EA: the force per unit strain (chains publish none: the file must say)", True, low=">0"),
-        "mass": Key("kg/m", "mass per length, instead of the catalog's", low=">=0"),
-        "breaking_load": Key("N", "breaking load, instead of the catalog's", low=">0"),
-        "damping": Key("N*s/m", "b", low=">=0"),
-        "damping_time": Key("s", "stiffness-proportional damping b = beta c", low=">=0"),
+        "name": Text(help="unique name"),
+        "from": Text(help="node (sprocket) it leaves", required=True),
+        "to": Text(help="node (sprocket) it reaches", required=True),
+        "chain": Text(help="chain (catalogs/chains.toml name, e.g. 10B-1)", required=True),
+        "length": Quantity("m", help="free strand length", required=True, low=">0"),
+        "pretension": Quantity("N", help="pretension F_0", low=">=0"),
+        "stiffness": Quantity("N", help="EA: the force per unit strain (chains publish none: the file must say)",
+                              required=True, low=">0"),
+        "mass": Quantity("kg/m", help="mass per length, instead of the catalog's", low=">=0"),
+        "breaking_load": Quantity("N", help="breaking load, instead of the catalog's", low=">0"),
+        "damping": Quantity("N*s/m", help="b", low=">=0"),
+        "damping_time": Quantity("s", help="stiffness-proportional damping b = beta c", low=">=0"),
     }
 
     @classmethod
@@ -374,15 +387,16 @@ class LoadKind(Kind):
     section = "load"
     node_key = "node"
     keys = {
-        "name": Key("text", "unique name"),
-        "node": Key("text", "node it acts on", True),
-        "torque": Key(TORQUE, "constant part, against the motion"),
-        "amplitude": Key(TORQUE, "amplitude of the sine"),
-        "frequency": Key("rad/s|Hz", "frequency of the sine in time", low=">=0"),
-        "order": Key("", "instead of frequency: the sine locked to the node's angle, sin(order phi)", low=">0"),
-        "phase": Key("rad", "phase of the sine"),
-        "start": Key("s", "the sine acts from here on (torque from 0; a later step: table)", low=">=0"),
-        "table": Key("table:s,N*m|N", "tabulated part [[t, torque], ...]"),
+        "name": Text(help="unique name"),
+        "node": Text(help="node it acts on", required=True),
+        "torque": Quantity(TORQUE, help="constant part, against the motion"),
+        "amplitude": Quantity(TORQUE, help="amplitude of the sine"),
+        "frequency": Quantity("rad/s|Hz", help="frequency of the sine in time", low=">=0"),
+        "order": Quantity("", help="instead of frequency: the sine locked to the node's angle, sin(order phi)",
+                          low=">0"),
+        "phase": Quantity("rad", help="phase of the sine"),
+        "start": Quantity("s", help="the sine acts from here on (torque from 0; a later step: table)", low=">=0"),
+        "table": Table(columns=(Quantity("s"), Quantity(TORQUE)), help="tabulated part [[t, torque], ...]"),
     }
 
     @classmethod

@@ -12,7 +12,8 @@ from typing import ClassVar
 
 from beltcalc.checks import percent
 from beltcalc.errors import did_you_mean
-from beltcalc.sim.drivefile.keys import Entry, Key
+from beltcalc.schema import Field, Quantity, Table, Text, Whole
+from beltcalc.sim.drivefile.keys import TORQUE, Entry
 from beltcalc.sim.drivefile.kinds import Kind
 
 
@@ -67,7 +68,7 @@ class MotorType:
     those it ``need`` s, and :meth:`build` on its node."""
 
     kind: ClassVar[str]
-    keys: ClassVar[dict[str, Key]]
+    keys: ClassVar[dict[str, Field]]
     need: ClassVar[tuple[str, ...]] = ()
 
     @classmethod
@@ -86,14 +87,14 @@ class InductionKind(MotorType):
 
     kind = "induction"
     keys = {
-        "rated_torque": Key("N*m", "rated torque (or rated_power and rated_speed)", low=">0"),
-        "rated_power": Key("W", "rated power", low=">0"),
-        "rated_speed": Key("rad/s", "rated speed", low=">0"),
-        "breakdown_factor": Key("", "breakdown torque / rated torque", low=">0"),
-        "breakdown_slip": Key("", "breakdown slip", low=">0"),
-        "supply": Key("Hz", "supply frequency", low=">0"),
-        "pole_pairs": Key("int", "pole pairs [default: inferred from rated_speed and supply]"),
-        "ramp": Key("s", "inverter ramp from 0 to the supply frequency (0: none)", low=">=0"),
+        "rated_torque": Quantity("N*m", help="rated torque (or rated_power and rated_speed)", low=">0"),
+        "rated_power": Quantity("W", help="rated power", low=">0"),
+        "rated_speed": Quantity("rad/s", help="rated speed", low=">0"),
+        "breakdown_factor": Quantity("", help="breakdown torque / rated torque", low=">0"),
+        "breakdown_slip": Quantity("", help="breakdown slip", low=">0"),
+        "supply": Quantity("Hz", help="supply frequency", low=">0"),
+        "pole_pairs": Whole(help="pole pairs [default: inferred from rated_speed and supply]"),
+        "ramp": Quantity("s", help="inverter ramp from 0 to the supply frequency (0: none)", low=">=0"),
     }
     need = ("supply", "breakdown_factor", "breakdown_slip")
 
@@ -163,13 +164,13 @@ class PrescribedKind(MotorType):
 
     kind = "prescribed"
     keys = {
-        "speed": Key("rad/s|m/s", "initial speed"),
-        "accel": Key("table:s,rad/s^2|m/s^2", "acceleration table [[t, a], ...]"),
-        "distance": Key("rad|m", "a move of this distance (motor-size profile)"),
-        "max_speed": Key("rad/s|m/s", "the move's speed limit", low=">0"),
-        "max_accel": Key("rad/s^2|m/s^2", "the move's acceleration limit", low=">0"),
-        "jerk": Key("rad/s^3|m/s^3", "jerk limit (S-curve); none: trapezoid", low=">0"),
-        "start": Key("s", "the move starts here", low=">=0"),
+        "speed": Quantity("rad/s|m/s", help="initial speed"),
+        "accel": Table(columns=(Quantity("s"), Quantity("rad/s^2|m/s^2")), help="acceleration table [[t, a], ...]"),
+        "distance": Quantity("rad|m", help="a move of this distance (motor-size profile)"),
+        "max_speed": Quantity("rad/s|m/s", help="the move's speed limit", low=">0"),
+        "max_accel": Quantity("rad/s^2|m/s^2", help="the move's acceleration limit", low=">0"),
+        "jerk": Quantity("rad/s^3|m/s^3", help="jerk limit (S-curve); none: trapezoid", low=">0"),
+        "start": Quantity("s", help="the move starts here", low=">=0"),
     }
 
     @classmethod
@@ -218,9 +219,9 @@ class SpeedLoopKind(MotorType):
 
     kind = "speed_loop"
     keys = {
-        "gain": Key("N*m*s/rad|N*s/m", "proportional gain", low=">=0"),
-        "reference": Key("table:s,rad/s|m/s", "speed reference [[t, speed], ...]"),
-        "feedforward": Key("table:s,N*m|N", "feed-forward torque [[t, torque], ...]"),
+        "gain": Quantity("N*m*s/rad|N*s/m", help="proportional gain", low=">=0"),
+        "reference": Table(columns=(Quantity("s"), Quantity("rad/s|m/s")), help="speed reference [[t, speed], ...]"),
+        "feedforward": Table(columns=(Quantity("s"), Quantity(TORQUE)), help="feed-forward torque [[t, torque], ...]"),
     }
     need = ("gain", "reference")
 
@@ -240,7 +241,7 @@ class TorqueKind(MotorType):
 
     kind = "torque"
     keys = {
-        "torque": Key("table:s,N*m|N", "drive torque [[t, torque], ...]"),
+        "torque": Table(columns=(Quantity("s"), Quantity(TORQUE)), help="drive torque [[t, torque], ...]"),
     }
     need = ("torque",)
 
@@ -252,16 +253,16 @@ class TorqueKind(MotorType):
         b.add(Load(node, table=tuple((t, -v) for t, v in table)))
 
 
-def motor_keys(kinds: dict[str, type[MotorType]]) -> dict[str, Key]:
+def motor_keys(kinds: dict[str, type[MotorType]]) -> dict[str, Field]:
     """The keys of ``[[motor]]``: name, kind, node, then every kind's own, each with its help
     led by the kind's name (``induction: supply frequency``)."""
     from dataclasses import replace
 
     names = list(kinds)
     keys = {
-        "name": Key("text", "unique name"),
-        "kind": Key("text", f"{', '.join(names[:-1])} or {names[-1]}", True),
-        "node": Key("text", "node it drives", True),
+        "name": Text(help="unique name"),
+        "kind": Text(help=f"{', '.join(names[:-1])} or {names[-1]}", required=True),
+        "node": Text(help="node it drives", required=True),
     }
     for kind, cls in kinds.items():
         for key, spec in cls.keys.items():

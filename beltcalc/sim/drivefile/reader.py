@@ -6,14 +6,15 @@ registry (:mod:`beltcalc.sim.drivefile.registry`)."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from beltcalc.catalogs import shown_path
 from beltcalc.errors import BeltcalcError, FloatRangeError, InputError, blame, did_you_mean, float_range
+from beltcalc.schema import Field, Quantity, Table, Whole
 from beltcalc.sim.drivefile.builder import Builder
 from beltcalc.sim.drivefile.keys import DriveFileError, DriveParam, Entry, read_drive_toml, text_of
 from beltcalc.sim.drivefile.registry import ELEMENTS, kind_of, sections
+from beltcalc.tomlsafe import shown_path
 
 
 @dataclass
@@ -148,23 +149,31 @@ class DriveFile:
             self.fail_all(problems)
 
     # --- parameters -------------------------------------------------------------------------
-    def unit(self, e: Entry, key: str) -> str:
-        """The SI unit of ``key`` of entry ``e``: a key of either dimension (a torque or a
-        force, ``N*m|N``) takes the one of the node it acts on (rotating or translating)."""
-        unit = kind_of(e.section).keys[key].unit
+    def field_of(self, e: Entry, key: str) -> Field:
+        """The field of ``key`` of entry ``e``: a quantity of either dimension (a torque or
+        a force, ``N*m|N``; a table's values) takes the one of the node it acts on
+        (rotating or translating)."""
+        spec = kind_of(e.section).keys[key]
+        column = spec.columns[1] if isinstance(spec, Table) else spec
+        unit = column.unit if isinstance(column, Quantity) else ""
         node_key = kind_of(e.section).node_key
         if "|" not in unit or not node_key or "Hz" in unit.split("|"):
-            return unit             # (a frequency in time, rad/s or Hz, is the same on either node)
+            return spec             # (a frequency in time, rad/s or Hz, is the same on either node)
         node = e.raw.get(node_key)
         if isinstance(node, list):  # between = [node a, node b]: the first
             node = node[0] if node else None
         entry = self.nodes.get(node) if isinstance(node, str) else None
         if entry is None:
-            return unit
-        translating = "mass" in entry.raw
-        head, _, tail = unit.rpartition(",") if unit.startswith("table:") else ("", "", unit)
-        pick = tail.split("|")[1 if translating else 0]
-        return f"{head}," + pick if head else pick
+            return spec
+        column = replace(column, unit=unit.split("|")[1 if "mass" in entry.raw else 0])
+        return replace(spec, columns=(spec.columns[0], column)) if isinstance(spec, Table) else column
+
+    def unit(self, e: Entry, key: str) -> str:
+        """The unit of the value ``key`` of entry ``e`` as :class:`DriveParam` gives it: a
+        quantity's SI unit (of the node it acts on, :meth:`field_of`), ``"int"`` for a whole
+        number, ``"text"`` for a text (the scalar keys: those ``--set`` can give)."""
+        spec = self.field_of(e, key)
+        return spec.unit if isinstance(spec, Quantity) else "int" if isinstance(spec, Whole) else "text"
 
     def params(self) -> list[DriveParam]:
         """Every addressable value: the timing, then ``ELEMENT.KEY`` of every element, with
@@ -175,7 +184,7 @@ class DriveFile:
 
     def _list_params(self) -> list[DriveParam]:
         head = kind_of("drive").keys
-        out = [DriveParam(k, head[k].unit, text_of(self.head.raw.get(k)), head[k].help)
+        out = [DriveParam(k, self.unit(self.head, k), text_of(self.head.raw.get(k)), head[k].help)
                for k in ("t_end", "samples", "window")]
         for e in self.entries:
             for key, spec in kind_of(e.section).keys.items():

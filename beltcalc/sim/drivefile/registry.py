@@ -17,7 +17,7 @@ them.
 
 from __future__ import annotations
 
-from beltcalc.sim.drivefile.keys import Key
+from beltcalc.schema import Field
 from beltcalc.sim.drivefile.kinds import (BeltSpanKind, ChainStrandKind, CouplingKind, GearKind, Head, Kind, LoadKind,
                                           NodeKind, ShaftKind)
 from beltcalc.sim.drivefile.motors import MotorKind
@@ -39,7 +39,7 @@ ELEMENTS: dict[str, type[Kind]] = {kind.section: kind for kind in (
 #: every section of a drive file: ``[drive]``, then the elements' ``[[section]]``
 SECTIONS: tuple[str, ...] = (Head.section, *ELEMENTS)
 #: section -> its keys
-KEYS: dict[str, dict[str, Key]] = {Head.section: Head.keys, **{s: kind.keys for s, kind in ELEMENTS.items()}}
+KEYS: dict[str, dict[str, Field]] = {Head.section: Head.keys, **{s: kind.keys for s, kind in ELEMENTS.items()}}
 #: the kinds of motor
 KINDS: tuple[str, ...] = tuple(MotorKind.kinds)
 #: kind of motor -> its keys (beside name, kind, node)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from beltcalc.schema import Names, Quantity, Table, Text
 from beltcalc.sim.drivefile.reader import DriveFile
 
 
@@ -23,24 +24,24 @@ def to_toml(data: dict, header: str = "") -> str:
 
     f = DriveFile.from_data(data, "<data>")
 
-    def value(raw, unit: str) -> str:
+    def value(raw, spec) -> str:
         if isinstance(raw, bool):
             return "true" if raw else "false"
-        if unit in ("text", "names"):
+        if isinstance(spec, (Text, Names)):
             return json.dumps(raw)
-        if unit.startswith("table:"):
-            x, y = unit[6:].split(",")
+        if isinstance(spec, Table):
+            x, y = spec.columns
             return "[" + ", ".join(f"[{value(t, x)}, {value(v, y)}]" for t, v in raw) + "]"
-        if unit in ("", "int") or isinstance(raw, str):
+        if isinstance(raw, str) or not isinstance(spec, Quantity) or not spec.unit:
             return json.dumps(raw) if isinstance(raw, str) else repr(raw)
-        return json.dumps(f"{float(raw)!r} {unit.split('|')[0]}")
+        return json.dumps(f"{float(raw)!r} {spec.unit.split('|')[0]}")
 
     lines = [f"# {line}".rstrip() for line in header.splitlines()]
     if lines:
         lines.append("")
     lines.append("[drive]")
-    lines += [f"{k} = {value(v, f.unit(f.head, k))}" for k, v in f.head.raw.items()]
+    lines += [f"{k} = {value(v, f.field_of(f.head, k))}" for k, v in f.head.raw.items()]
     for e in f.entries:
         lines += ["", f"[[{e.section}]]"]
-        lines += [f"{k} = {value(v, f.unit(e, k))}" for k, v in e.raw.items()]
+        lines += [f"{k} = {value(v, f.field_of(e, k))}" for k, v in e.raw.items()]
     return "\n".join(lines) + "\n"

@@ -125,6 +125,16 @@ inertia = "2 kg*m^2"
     ('[[node]]\nname = "p"\ninertia = "1 kg*m^2"\npitch_diameter = "100 mm"\n'
      '[[belt_span]]\nfrom = "p"\nto = "p"\nbelt = "NOPE"\nwidth = "25 mm"\nlength = "1 m"\n',
      r"belt_span 'belt_span1': belt: unknown belt"),
+    # read by the schema's fields (issue 29, step 5): a required text is not empty, a plain
+    # number is a number, a table's example is in its column's unit, a frequency in its bounds
+    ('[[node]]\nname = "p"\ninertia = "1 kg*m^2"\npitch_diameter = "100 mm"\n'
+     '[[belt_span]]\nfrom = "p"\nto = "p"\nbelt = ""\nwidth = "25 mm"\nlength = "1 m"\n',
+     r"belt_span 'belt_span1': belt: must not be empty \(belt profile"),
+    ('[[coupling]]\nname = "c"\nbetween = ["a", "b"]\nstiffness = "5 N*m/rad"\nratio = true\n',
+     r"coupling 'c': ratio: must be a number, not True$"),
+    ('[[motor]]\nkind = "prescribed"\nnode = "a"\naccel = 5\n',
+     r'motor \'motor1\': accel: must be a list of \[time, value\] pairs, e.g. \[\["0 s", "0 rad/s\^2"\], '),
+    ('[[load]]\nnode = "a"\nfrequency = "-1 Hz"\n', r"load 'load1': frequency: -1 Hz is not allowed; it must be >= 0 Hz"),
 ])
 def test_every_malformed_file_is_one_line_naming_file_element_and_key(tmp_path, extra, pattern):
     path = _write(tmp_path, BASE + "\n" + extra)
@@ -134,6 +144,17 @@ def test_every_malformed_file_is_one_line_naming_file_element_and_key(tmp_path, 
     assert "\n" not in message
     assert message.startswith(str(path) + ": ")
     assert info.match(pattern)
+
+
+@pytest.mark.parametrize("bad", [math.inf, -math.inf, math.nan])
+def test_a_drive_built_in_code_refuses_a_number_that_is_not_finite(bad):
+    # SI floats are allowed there (DriveFile.from_data), an infinite or undefined one is not
+    data = {"drive": {"t_end": 1.0}, "node": [{"name": "a", "inertia": 2.0}, {"name": "b", "inertia": 1.0}],
+            "coupling": [{"name": "c", "between": ["a", "b"], "stiffness": bad}]}
+    with pytest.raises(DriveFileError, match=r"^demo: coupling 'c': stiffness: '-?(inf|nan)' is not a finite number$"):
+        DriveFile.from_data(data, "demo").build()
+    data["coupling"][0]["stiffness"] = 5.0
+    assert DriveFile.from_data(data, "demo").build().network.K[0, 0] == pytest.approx(5.0, rel=1e-15)
 
 
 def test_not_toml_and_missing_file_are_one_line(tmp_path):

@@ -4,12 +4,14 @@ A study (:mod:`beltcalc.sim.study`) runs one scene many times with some values c
 every run of a chunk is one linear time-invariant network over the whole run (no strands, no
 time break points, no nonlinear element) with the same states, generators and time grid,
 each run ``r`` is ``z_r' = F_r z_r`` with ``z = [x, g]`` (the state and the input
-generators, :func:`beltcalc.sim.propagate.augmented_matrix`), and what its summary row needs is a
-few signals ``y_ri(t_k) = c_ri^T z_r(t_k)`` that are linear in ``z``: speeds, accelerations
-(``c^T F``), coupling torques, a motor's torque. They are computed for the chunk at once:
+generators [MVL03 sec. 10], :func:`beltcalc.sim.propagate.augmented_matrix`), and what its
+summary row needs is a few signals ``y_ri(t_k) = c_ri^T z_r(t_k)`` that are linear in ``z``:
+speeds, accelerations (``c^T F``), coupling torques, a motor's torque. They are computed for
+the chunk at once:
 
-- ``F~_r = D_r^{-1} F_r D_r`` balanced (powers of two, exact), ``S_r = expm(F~_r dt)`` for the
-  whole stack in one call (:func:`beltcalc.sim.linalg.expm` takes ``(runs, n, n)``);
+- ``F~_r = D_r^{-1} F_r D_r`` balanced (powers of two, exact), ``S_r = expm(F~_r dt)`` by
+  scaling and squaring [AH09] for the whole stack in one call (:func:`beltcalc.sim.linalg.expm`
+  takes ``(runs, n, n)``);
 - with ``b = ceil(sqrt(N))`` for ``N`` samples, the rows ``w_{r,i,j} = c~_ri^T S_r^j``
   (``j < b``) by doubling and the block starts ``S_r^{kb} z~_r(0)`` by doubling: then
   ``y_ri(t_{kb + j}) = (S_r^{kb} z~_r(0)) . w_{r,i,j}``, one batched matrix product per pass
@@ -38,10 +40,14 @@ estimate above half the tolerance) goes through the scene's own single run
 batch must reproduce (:func:`beltcalc.sim.study.runs.agrees`) or the whole chunk goes one by
 one.
 
-References: Moler & Van Loan, "Nineteen dubious ways to compute the exponential of a matrix,
-twenty-five years later", SIAM Review 45 (2003) 3-49 (scaling and squaring; the augmented
-system for polynomial and sinusoidal inputs, section 10); Al-Mohy & Higham, SIAM J. Matrix
-Anal. Appl. 31 (2009) 970-989 (``expm``, :mod:`beltcalc.sim.linalg`).
+References:
+
+[MVL03] C. Moler and C. Van Loan, "Nineteen dubious ways to compute the exponential of a
+    matrix, twenty-five years later", SIAM Review 45 (2003) 3-49: the augmented system for
+    polynomial and sinusoidal inputs.
+[AH09] A. H. Al-Mohy and N. J. Higham, "A new scaling and squaring algorithm for the matrix
+    exponential", SIAM J. Matrix Anal. Appl. 31 (2009) 970-989: the ``expm`` of
+    :mod:`beltcalc.sim.linalg`.
 """
 
 from __future__ import annotations
@@ -308,7 +314,7 @@ def _output_row(net, name: str, names: Sequence[str], eye: np.ndarray) -> tuple[
 def resonance_separation(nets: Sequence) -> np.ndarray:
     """Per network the least relative separation ``|f_e - f_n| / f_n`` of a load's frequency
     (a sinusoid in time with an amplitude) from an undamped natural frequency of an
-    oscillatory mode (:func:`beltcalc.sim.scenes.base.resonance_check`, whose poles are
+    oscillatory mode (:func:`beltcalc.sim.scenes.run_checks.resonance_check`, whose poles are
     :func:`beltcalc.sim.frequency.poles`: the eigenvalues of A, one batched call); NaN where
     there is no such check, 0 where an element has an excitation of its own (not covered here).
 

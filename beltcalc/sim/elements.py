@@ -29,6 +29,16 @@ The hooks an element may define (all optional, see :class:`Element`):
 Pint quantities are accepted wherever an element takes an SI float: they are converted to
 the SI unit the kind's ``UNITS`` gives the field (``Inertia(name, J=Q_(3.5, "g*m^2"))``), and
 a quantity of the wrong dimension is refused with a message naming the field.
+
+References:
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
+    couplings' Lagrange form [M16 eq. 3-7] and the induction motor's dynamic characteristic
+    [M16 eq. 2].
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission": the tension-only
+    strand [RP eq. 8-11].
 """
 
 from __future__ import annotations
@@ -216,7 +226,7 @@ class Coupling(Element):
     """Spring-damper C [N m/rad], d [N m s/rad] from node ``i`` to ``U`` x node ``j`` (``j``
     None: to the frame). Potential V = C/2 (phi_i - U phi_j)^2, dissipation R = d/2 (omega_i -
     U omega_j)^2; its torque on i is ``-C (phi_i - U phi_j) - d (omega_i - U omega_j)`` and on
-    j ``U`` times the opposite (Mamatova et al. 2016, eq. 3-7, assembled instead of typed).
+    j ``U`` times the opposite [M16 eq. 3-7], assembled instead of typed.
     Output ``T_<name>``: C (phi_i - U phi_j) + d (omega_i - U omega_j) [N m, or N between
     translating nodes]."""
 
@@ -279,7 +289,7 @@ class Strand(Element):
     stiffness c [N/m], damping b [N s/m], radii r_i, r_j [m] where it leaves the nodes
     (1 for a translating node), pretension F_0 [N]. Elongation
     ``delta = r_i phi_i - r_j phi_j + F_0 / c``; force ``c delta + b delta'`` while taut
-    (Rusek & Popenda, eq. 8-11). The switching core handles it (see :class:`Network`).
+    [RP eq. 8-11]. The switching core handles it (see :class:`Network`).
     """
 
     name: str
@@ -500,7 +510,7 @@ class InductionMotor(Element):
     .. math:: \dot M = \frac{2 M_c \omega_c}{\omega_0} (\omega_0 - \dot\varphi) - \omega_c S_c M
 
     breakdown_torque M_c [N m], breakdown_slip S_c [-], sync_speed omega_0 [rad/s],
-    supply omega_c = 2 pi f [rad/s]. Eq. (2) of Mamatova et al. 2016 (after Pinchuk 1957):
+    supply omega_c = 2 pi f [rad/s]. The characteristic of [M16 eq. 2] (after Pinchuk 1957):
     a lag of time constant 1/(omega_c S_c) on the linearised Kloss characteristic
     M = 2 M_c s / S_c, s = (omega_0 - omega)/omega_0.
 

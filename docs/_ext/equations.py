@@ -86,6 +86,19 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("MVL03", "Numerical methods",
            'C. Moler and C. Van Loan, "Nineteen dubious ways to compute the exponential of a matrix, '
            'twenty-five years later", SIAM Review 45 (2003) 3-49'),
+    Source("AH09", "Numerical methods",
+           'A. H. Al-Mohy and N. J. Higham, "A new scaling and squaring algorithm for the matrix '
+           'exponential", SIAM J. Matrix Anal. Appl. 31 (2009) 970-989'),
+    Source("Guy65", "Numerical methods",
+           'R. J. Guyan, "Reduction of stiffness and mass matrices", AIAA Journal 3 (1965) 380'),
+    Source("CGL79", "Numerical methods",
+           'T. F. Chan, G. H. Golub, R. J. LeVeque, "Updating formulae and a pairwise algorithm for computing '
+           'sample variances", Stanford report STAN-CS-79-773 (1979)'),
+    Source("Vit85", "Numerical methods",
+           'J. S. Vitter, "Random sampling with a reservoir", ACM Trans. Math. Software 11 (1985) 37-57'),
+    Source("Wil27", "Numerical methods",
+           'E. B. Wilson, "Probable inference, the law of succession, and statistical inference", '
+           'J. Amer. Statist. Assoc. 22 (1927) 209-212'),
 )}
 
 _KEYS = "|".join(re.escape(k) for k in sorted(SOURCES, key=len, reverse=True))

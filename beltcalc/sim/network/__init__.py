@@ -17,12 +17,12 @@ Coupling k between nodes i and j with ratio U (``j`` None: to the frame):
     potential   V = C/2 (phi_i - U phi_j)^2,   dissipation  R = d/2 (omega_i - U omega_j)^2
 
 so its torque on i is ``-C (phi_i - U phi_j) - d (omega_i - U omega_j)`` and on j ``U`` times
-the opposite (Mamatova et al. 2016, eq. 3-7, assembled instead of typed).
+the opposite [M16 eq. 3-7], assembled instead of typed.
 
-A strand from node i to node j (Rusek & Popenda, eq. 8-11) has the elongation
+A strand from node i to node j [RP eq. 8-11] has the elongation
 ``delta = r_i phi_i - r_j phi_j + F_0 / c`` (r: pitch radius [m], 1 for a translating node;
 F_0 the pretension) and the force ``F = c delta + b delta'`` while it is taut, 0 while slack.
-It is taut while ``delta > 0`` (the paper's eq. 9-11) *and* ``F > 0``: the paper lets the
+It is taut while ``delta > 0`` [RP eq. 9-11] *and* ``F > 0``: the paper lets the
 damper push while the elongation is still positive; a chain cannot push, so we also
 release a strand whose force reaches zero. Between switches the network is linear; the
 switching surfaces ``delta = 0`` and ``F = 0`` are hyperplanes in the state, which the core
@@ -32,6 +32,15 @@ Inputs that are piecewise linear in time (tabulated loads, a prescribed accelera
 reference and feed-forward of a speed loop) keep the network linear between their break
 points: the generators are ``g = [1, t, sin w1 t, cos w1 t, ...]`` and ``B`` depends on the
 time segment.
+
+References:
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
+    couplings' Lagrange form [M16 eq. 3-7].
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission": the tension-only
+    strands [RP eq. 8-11].
 """
 
 

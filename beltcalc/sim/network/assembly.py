@@ -1,6 +1,13 @@
 """What the network's assembly is made of: the :class:`Piece` elements write their inputs
 into, the :class:`Event` of a strand's switching surface, the guards against entries beyond
-the float range, and the series stiffness of two springs. SI floats only."""
+the float range, and the series stiffness of two springs. SI floats only.
+
+References:
+
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission": a clutch and a
+    shaft in series [RP eq. 3].
+"""
 
 from __future__ import annotations
 
@@ -17,8 +24,8 @@ def series_stiffness(c1: float, c2: float) -> float:
 
     .. math:: c_{1-2} = \frac{c_1 c_2}{c_1 + c_2}
 
-    Eq. (3) of Rusek & Popenda (clutch and shaft in series). Exact for springs without
-    dampers; a damper on the massless node would leave a first-order element instead.
+    [RP eq. 3] (clutch and shaft in series). Exact for springs without dampers; a damper on
+    the massless node would leave a first-order element instead.
 
     >>> series_stiffness(300.0, 600.0)
     200.0

@@ -1,7 +1,13 @@
 """The generalised coordinates of a network: every group of nodes joined by rigid gears is one
 coordinate (the angle of its first node), and a group without inertia (massless nodes between
 springs) is condensed out exactly: its angle follows the springs' static balance,
-``q_m = -K_mm^-1 K_mr q_r`` (Guyan's reduction, exact without inertia). SI floats only."""
+``q_m = -K_mm^-1 K_mr q_r`` (Guyan's reduction [Guy65], exact without inertia). SI floats
+only.
+
+References:
+
+[Guy65] R. J. Guyan, "Reduction of stiffness and mass matrices", AIAA Journal 3 (1965) 380.
+"""
 
 from __future__ import annotations
 

@@ -1,6 +1,11 @@
 """The :class:`Network`: nodes and elements assembled into the first-order system
 ``x' = A x + B g(t) + f(t, x)``, with names and units for every state and output (the
-package's docstring, :mod:`beltcalc.sim.network`, gives the model). SI floats only."""
+package's docstring, :mod:`beltcalc.sim.network`, gives the model). SI floats only.
+
+References:
+
+[Guy65] R. J. Guyan, "Reduction of stiffness and mass matrices", AIAA Journal 3 (1965) 380.
+"""
 
 from __future__ import annotations
 
@@ -31,8 +36,8 @@ class Network(StrandModes):
     coordinate, the angle of its first node; a node's angle is ``node_row(name) . q``.
     A group without inertia (massless nodes between springs) is condensed out exactly:
     its angle follows the springs' static balance, ``q_m = -K_mm^-1 K_mr q_r`` (Guyan's
-    reduction, exact without inertia), provided its dampers are proportional to its springs
-    (else a first-order element would be left). Loads, drives and strands must sit on nodes
+    reduction [Guy65], exact without inertia), provided its dampers are proportional to its
+    springs (else a first-order element would be left). Loads, drives and strands must sit on nodes
     with inertia.
 
     >>> net = Network([Inertia("a", 1.0), Inertia("b", 2.0)], [Load("b", 1.0), Coupling("c", "a", "b", 8.0, 0.0)])

@@ -1,8 +1,15 @@
 """What a network's tension-only strands add to it: the rows of their elongations and forces
 over ``z = [x, g]``, the switching surfaces of a strand mode, which strands are taut, their
-forces, and the sparse stamps a taut strand adds to ``[A | B]`` (Rusek & Popenda, eq. 8-11).
+forces, and the sparse stamps a taut strand adds to ``[A | B]`` [RP eq. 8-11].
 :class:`~beltcalc.sim.network.Network` has them as methods (:class:`StrandModes`); the
-switching core and the scipy methods read them. SI floats only."""
+switching core and the scipy methods read them. SI floats only.
+
+References:
+
+[RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
+    table unit with rotation of rollers transmitted by chain transmission": the strand's
+    elongation, force and taut condition [RP eq. 8-11].
+"""
 
 from __future__ import annotations
 
@@ -50,7 +57,7 @@ class StrandModes:
 
     def strand_rows(self) -> tuple[np.ndarray, np.ndarray]:
         """Rows over z = [x, g] giving every strand's elongation delta [m] and (taut) force F [N]
-        (built once)."""
+        of [RP eq. 8-11] (built once)."""
         if self._rows is None:
             n, m = self.n, self.size
             p = self.generators(0.0).size
@@ -106,7 +113,7 @@ class StrandModes:
         return (delta @ z > 0) & (force @ z > 0)
 
     def strand_forces(self, t, x: np.ndarray) -> dict[str, np.ndarray]:
-        """Force in each strand [N]: c delta + b delta' while taut, else 0."""
+        """Force in each strand [N]: c delta + b delta' while taut, else 0 [RP eq. 8-11]."""
         if not self.strands:
             return {}
         f = self._forces(np.vstack([x, self.generators(t)]))

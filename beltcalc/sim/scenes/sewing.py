@@ -1,8 +1,15 @@
-"""The sewing-machine drive of Mamatova et al. (2016) as a network: five inertias, four
-spring-damper couplings with ratios, an induction motor on shaft 1, technological loads on
-the main shaft (3) and the bottom shaft (5); and the scene ``simulate sewing``: its
-parameters (``catalogs/scenes/sewing.toml``) and its report, the speed, acceleration and
-transmitted torque of the main and bottom shafts over a steady window. SI floats only."""
+"""The sewing-machine drive of [M16] as a network: five inertias, four spring-damper
+couplings with ratios, an induction motor on shaft 1, technological loads on the main shaft
+(3) and the bottom shaft (5); and the scene ``simulate sewing``: its parameters
+(``catalogs/scenes/sewing.toml``) and its report, the speed, acceleration and transmitted
+torque of the main and bottom shafts over a steady window. SI floats only.
+
+References:
+
+[M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
+    Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
+    drive, its parameters and the induction motor's characteristic [M16 eq. 2].
+"""
 
 from __future__ import annotations
 
@@ -18,9 +25,10 @@ from beltcalc.params import Param
 from beltcalc.checks import RULES, Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
-from beltcalc.sim.scenes.base import (TIMING, BatchRow, Outcome, Scene, SteadyRow, check_timing, exact_steady_state,
-                                      motor_checks, resonance_check, scene_values, settling_check, stall_checks,
-                                      steady_sections)
+from beltcalc.sim.scenes.base import TIMING, BatchRow, Scene, check_timing, scene_values
+from beltcalc.sim.scenes.outcome import Outcome, SteadyRow, steady_sections
+from beltcalc.sim.scenes.run_checks import motor_checks, resonance_check, stall_checks
+from beltcalc.sim.scenes.steady import exact_steady_state, settling_check
 
 NODES = ("1", "2", "3", "4", "5")
 NAMES = {"1": "motor", "2": "driven-pulley rim", "3": "main shaft", "4": "toothed-pulley rim", "5": "bottom shaft"}
@@ -94,7 +102,7 @@ def steady_speed(p: dict) -> float:
 
     In steady rotation the couplings do not deflect relative to the ratios, so the motor
     carries the mean loads reflected through U12 (U23 = U34 = U45 = 1 assumed here, as
-    printed): :math:`M_m = (M_{3,0} + M_{5,0}) / U_{12}`; the static characteristic of eq. 2
+    printed): :math:`M_m = (M_{3,0} + M_{5,0}) / U_{12}`; the static characteristic [M16 eq. 2]
     gives :math:`\omega_1 = \omega_0 (1 - S_c M_m / (2 M_c))`, and :math:`\omega_3 = \omega_1 / U_{12}`.
 
     >>> p = dict(M3_0=0.1, M5_0=0.012, U12=1.375, U23=1.0, U34=1.0, U45=1.0, rated_torque=1.2,
@@ -369,7 +377,7 @@ STEADY_SIGNALS = ["omega_3", "accel_3", "T_23", "omega_5", "accel_5", "T_45", "o
 
 def _steady_sections(ss) -> list[Section]:
     """The exact periodic steady state, shaft by shaft and the motor
-    (:func:`~beltcalc.sim.scenes.base.steady_sections`)."""
+    (:func:`~beltcalc.sim.scenes.outcome.steady_sections`)."""
     layout = [(f"{name}_shaft", f"{name} shaft ({node}), periodic steady state (exact)", [
         SteadyRow("speed_mean", "speed, mean", f"omega_{node}", digits=5),
         SteadyRow("speed_amplitude", "speed, amplitude", f"omega_{node}", "amplitude"),

@@ -10,7 +10,8 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping, Sequence
 
-from beltcalc.sim.scenes.base import Column, Scene, run_scene
+from beltcalc.report import Column
+from beltcalc.sim.scenes.base import Scene, run_scene
 from beltcalc.sim.study.execution import grid_rows
 from beltcalc.sim.study.plan import Plan
 from beltcalc.sim.study.runs import RunRow
@@ -52,7 +53,7 @@ class Sweep:
         return out
 
     def header(self) -> list[str]:
-        """The swept parameters, then every reported value (:meth:`~beltcalc.sim.scenes.base.Outcome.columns`)."""
+        """The swept parameters, then every reported value (:meth:`~beltcalc.sim.scenes.outcome.Outcome.columns`)."""
         return [c.key for c in self.column_info()]
 
     def column_info(self) -> list[Column]:
@@ -173,7 +174,7 @@ def sweep_scene(scene: Scene, values: Mapping[str, object], name: str, points: S
                 progress: Callable[[], None] | None = None, keep_outcomes: bool = False, **options) -> Sweep:
     """One run per value of ``name`` in ``points``, the other values as given; ``progress()``
     is called after each run. ``keep_outcomes`` keeps every run's
-    :class:`~beltcalc.sim.scenes.base.Outcome` (its time series: 2.5 MiB a run of the sewing
+    :class:`~beltcalc.sim.scenes.outcome.Outcome` (its time series: 2.5 MiB a run of the sewing
     scene) in ``Sweep.outcomes``; a run that then fails raises."""
     if not keep_outcomes:
         step = None if progress is None else (lambda n: [progress() for _ in range(n)])

@@ -3,10 +3,19 @@ fold of every run into what the report needs, in constant memory.
 
 An :class:`Accumulator` folds each chunk into sums of fixed size (exact mean, standard
 deviation, min and max, standardised regression coefficients from co-moment matrices merged
-by Chan et al.'s pairwise update) and a reservoir of :data:`RESERVOIR` rows (Vitter's
-algorithm R) for percentiles and Spearman rank correlations; memory is constant in the
-number of runs. A limit's failing fraction comes with its Wilson score interval
+by the pairwise update of [CGL79]) and a reservoir of :data:`RESERVOIR` rows (algorithm R
+of [Vit85]) for percentiles and Spearman rank correlations; memory is constant in the
+number of runs. A limit's failing fraction comes with its Wilson score interval [Wil27]
 (:func:`wilson`).
+
+References:
+
+[CGL79] T. F. Chan, G. H. Golub, R. J. LeVeque, "Updating formulae and a pairwise algorithm
+    for computing sample variances", Stanford report STAN-CS-79-773 (1979).
+[Vit85] J. S. Vitter, "Random sampling with a reservoir", ACM Trans. Math. Software 11
+    (1985) 37-57.
+[Wil27] E. B. Wilson, "Probable inference, the law of succession, and statistical
+    inference", J. Amer. Statist. Assoc. 22 (1927) 209-212.
 """
 
 from __future__ import annotations
@@ -90,7 +99,7 @@ def parse_limit(text: str, columns: Mapping[str, object]) -> Limit:
 
 
 def wilson(failed: int, n: int, z: float = Z95) -> tuple[float | None, float | None]:
-    """Wilson score interval of a fraction ``failed / n`` (95 % by default); (None, None) for n = 0.
+    """Wilson score interval [Wil27] of a fraction ``failed / n`` (95 % by default); (None, None) for n = 0.
 
     >>> [round(x, 4) for x in wilson(0, 100)]
     [0.0, 0.037]
@@ -110,7 +119,7 @@ def wilson(failed: int, n: int, z: float = Z95) -> tuple[float | None, float | N
 
 class _Moments:
     """Count, means and co-moment matrix of vectors [inputs..., one output], merged batch by
-    batch (Chan, Golub & LeVeque 1979): exact and of fixed size."""
+    batch by the pairwise update of [CGL79]: exact and of fixed size."""
 
     __slots__ = ("n", "mean", "M")
 
@@ -206,7 +215,7 @@ class Accumulator:
         self.runs += len(rows)
 
     def _reservoir(self, Z: np.ndarray) -> None:
-        """Algorithm R over the rows in run order (deterministic: its own seeded stream)."""
+        """Algorithm R [Vit85] over the rows in run order (deterministic: its own seeded stream)."""
         t0, n = self.runs, Z.shape[0]
         fill = max(0, min(n, self.cap - t0))
         if fill:

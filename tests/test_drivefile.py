@@ -135,6 +135,12 @@ inertia = "2 kg*m^2"
     ('[[motor]]\nkind = "prescribed"\nnode = "a"\naccel = 5\n',
      r'motor \'motor1\': accel: must be a list of \[time, value\] pairs, e.g. \[\["0 s", "0 rad/s\^2"\], '),
     ('[[load]]\nnode = "a"\nfrequency = "-1 Hz"\n', r"load 'load1': frequency: -1 Hz is not allowed; it must be >= 0 Hz"),
+    # flags through their fields too (a text "yes" was silently taken as false)
+    ('[[coupling]]\nname = "c"\nbetween = ["a", "b"]\nstiffness = "5 N*m/rad"\nrigid = "yes"\n',
+     r"coupling 'c': rigid: must be true or false, not 'yes'$"),
+    ('[[node]]\nname = "p"\ninertia = "1 kg*m^2"\npitch_diameter = "100 mm"\n'
+     '[[belt_span]]\nfrom = "p"\nto = "p"\nbelt = "AT10"\nwidth = "25 mm"\nlength = "1 m"\ntension_only = 0\n',
+     r"belt_span 'belt_span1': tension_only: must be true or false, not 0$"),
 ])
 def test_every_malformed_file_is_one_line_naming_file_element_and_key(tmp_path, extra, pattern):
     path = _write(tmp_path, BASE + "\n" + extra)

@@ -153,7 +153,7 @@ class CouplingKind(Kind):
         C, d = b.need(e, "stiffness"), b.get(e, "damping", 0.0)
         U = b.get(e, "ratio", 1.0)
         j = ends[1] if len(ends) == 2 else None
-        if e.raw.get("rigid") is True and not b.flexible:
+        if b.get(e, "rigid", False) and not b.flexible:
             if j is None:
                 b.fail(e, "rigid", "a rigid coupling to the frame would hold the node still; "
                                    "use a prescribed motor of speed 0")
@@ -174,7 +174,7 @@ class CouplingKind(Kind):
 
         if j is None:
             b.fail(e, "eccentricity", "a tension roller needs a belt between two nodes")
-        if e.raw.get("rigid") is True:
+        if b.get(e, "rigid", False):
             b.fail(e, "rigid", "a coupling with an eccentric tension roller cannot be rigid")
         r1 = b.get(e, "pulley_radius", b.radius.get(ends[0]))
         if r1 is None:
@@ -318,7 +318,7 @@ class BeltSpanKind(Kind):
         b.strand_mass(e, (i, r_i), (j, r_j), row.w_spec, length)
         if row.F_Tadm:
             b.limits[e.name] = (row.F_Tadm, "F_Tadm")
-        if e.raw.get("tension_only", True) is False:
+        if not b.get(e, "tension_only", True):
             # one two-way spring k = C_spec / L (the substitute model, [W21 eq. 5]):
             # C (phi_i - U phi_j) with C = k r_i^2, U = r_j / r_i: the torque r_i F
             b.add(Coupling(e.name, i, j, k * r_i ** 2, damping * r_i ** 2, r_j / r_i))

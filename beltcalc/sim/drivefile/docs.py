@@ -2,7 +2,7 @@
 per section, between the page's ``<!-- keys: SECTION -->`` and ``<!-- end keys -->`` lines
 (each with a blank line to the table, so the comments stay HTML blocks of their own).
 ``python -m beltcalc.sim.drivefile.docs`` rewrites them in place (from a source checkout);
-``--check`` only says whether the page is up to date (exit 1 if not), as the tests do.
+``check`` (an argument) only says whether the page is up to date (exit 1 if not), as the tests do.
 
 >>> print(key_table("gear"))
 | key | unit | required | meaning |
@@ -79,10 +79,10 @@ def render(page: str) -> str:
 
 
 def main(argv: list[str]) -> int:
-    """Rewrite the page's key tables (``--check``: only say whether they are up to date)."""
+    """Rewrite the page's key tables (argument ``check``: only say whether they are up to date)."""
     text = PAGE.read_text(encoding="utf-8")
     new = render(text)
-    if "--check" in argv:
+    if "check" in argv:
         print(f"{PAGE}: {'up to date' if new == text else 'stale: run python -m beltcalc.sim.drivefile.docs'}")
         return 0 if new == text else 1
     if new != text:

@@ -341,7 +341,7 @@ def test_a_stale_or_missing_key_table_is_found():
         render(doc.replace("<!-- keys: load -->", "<!-- keys: drive -->"))
     with pytest.raises(ValueError, match="'gone', which is no section"):
         render(doc.replace("<!-- keys: load -->", "<!-- keys: gone -->"))
-    assert main(["--check"]) == 0
+    assert main(["check"]) == 0
 
 
 def test_a_new_kind_is_one_class_and_one_registry_line(tmp_path, monkeypatch):

@@ -3,7 +3,10 @@
 Both propagate the same exact solution: the dense path by ``expm`` of the bottom step and
 its doubling orbit, the sparse path by the Taylor sum of sparse products step by step,
 with F~ assembled from the strands' stamps. They share no propagator, so agreement of the
-switch sequences and of the trajectories checks the sparse assembly and stepping.
+switch sequences and of the trajectories checks the sparse assembly and stepping. The
+sparse path's own shortcuts are checked against what they replace: the assembly of a
+pattern against the dense matrix, the truncated Taylor sums against the full series, the
+re-based rotations' integral against its sum written out.
 """
 
 from __future__ import annotations
@@ -154,3 +157,84 @@ def test_sparse_path_without_scipys_private_kernel(monkeypatch):
     monkeypatch.setattr(switching, "_kernels", None)
     r = run(net, np.linspace(0.0, 1.0, 201), x0, True)
     assert_allclose([s[0] for s in r.switches], [s for s, _ in seq["switches"]], rtol=0, atol=1e-9)
+
+
+def _sparse_run(net, t):
+    old = switching.SPARSE_SIZE
+    switching.SPARSE_SIZE = 1
+    try:
+        return switching.Run(net, t, np.zeros(net.size), 100_000)
+    finally:
+        switching.SPARSE_SIZE = old
+
+
+def test_sparse_assembly_is_the_dense_matrix_of_every_pattern():
+    # the places of every entry any pattern can have, filled by one weighted count per pattern
+    # (slack strands' stamps weighted 0): the balanced augmented matrix and its 1-norm, against
+    # the dense assembly of each pattern (random patterns, several time pieces of a pulsating load)
+    p = params(rollers=5.0, load_amplitude=70.0, load_frequency=50.0)
+    net = roller_table.build(p)
+    run = _sparse_run(net, np.linspace(0.0, 3.0, 31))
+    parts = run.cache.parts
+    rng = np.random.default_rng(3)
+    ns = len(net.strands)
+    for t_mid in (0.5, 3.5):
+        for _ in range(5):
+            taut = tuple(bool(b) for b in rng.integers(0, 2, ns))
+            (indptr, indices, data), norm = parts.matrix(taut, t_mid)
+            got = parts.scipy_matrix(taut, t_mid).toarray()
+            want = augmented_matrix(net, taut, t_mid) / run.S[:, None] * run.S[None, :]
+            scale = np.abs(want).max()
+            assert_allclose(got, want, rtol=0, atol=1e-15 * scale)
+            assert norm == pytest.approx(float(np.abs(want).sum(axis=0).max()), rel=1e-14)
+    # each event's firing direction and strand as Network.events gives them, in the fixed order
+    taut = tuple(bool(b) for b in rng.integers(0, 2, ns))
+    mode = run.cache.get(taut, 0, 0.5)
+    events = net.events(taut)
+    mine = sorted(zip(mode.event_strand.tolist(), [e.kind for e in mode.events], mode.dirs.tolist()))
+    assert mine == sorted((e.strand, e.kind, float(e.direction)) for e in events)
+
+
+def test_sparse_orbit_truncated_terms_and_kept_terms():
+    # the orbit sums each step's Taylor series until its tail bound is TAIL of |z|_1 (not the
+    # norm's worst-case count of terms): the states agree with the full series to rounding, and
+    # the terms it keeps for the watch are the step points' own Taylor terms
+    p = params(rollers=5.0, load_amplitude=70.0, load_frequency=50.0)
+    net = roller_table.build(p)
+    run = _sparse_run(net, np.linspace(0.0, 1.0, 11)).run()
+    z = np.concatenate([run.out[:, -1], net.generators(1.0)]) / run.S
+    mode = run.cache.get(run.end_taut, 0, 0.5)
+    keep = np.empty((40, mode.terms, z.size))
+    Z, _, J = mode.orbit(z, 40, integrate=True, keep=keep)
+    V = mode.kept(Z[0]).copy()                  # the block's terms (the next orbit drops them)
+    assert V.shape[0] == 40
+    old = switching.TAIL
+    switching.TAIL = 0.0
+    try:
+        mode._used = mode.terms
+        Zf, _, Jf = mode.orbit(z, 40, integrate=True)
+    finally:
+        switching.TAIL = old
+    assert mode._used == mode.terms                           # the full series: every term
+    size = np.abs(Zf).sum(axis=1, keepdims=True)
+    assert_allclose(Z, Zf, rtol=0, atol=1e-13 * size.max())
+    assert_allclose(J, Jf, rtol=0, atol=1e-13 * np.abs(Jf).max())
+    taylor = mode.taylor(Z[:-1]).transpose(1, 0, 2)
+    assert_allclose(V, taylor, rtol=0, atol=1e-15 * size.max())
+    assert np.count_nonzero(np.abs(V).sum(axis=(0, 2))) < mode.terms   # it did stop early
+
+
+def test_rigid_integrals_sample_by_sample_equal_the_sum_over_rebases():
+    # the integral of the rotations taken out, sum_k d_k (t - t_k)+, formed in O(rebases +
+    # samples) (a switching run re-bases at every block), against the sum written out
+    p = params(rollers=3.0)
+    net = roller_table.build(p)
+    t = np.linspace(0.0, 2.0, 201)
+    run = switching.Run(net, t, np.zeros(net.size), 100_000, integrate=True)
+    rng = np.random.default_rng(5)
+    tk = np.sort(np.concatenate([rng.uniform(0.0, 2.0, 300), t[[0, 7, 200]]]))
+    run.rebases = [(float(a), rng.normal(size=run.rigid.shape[0]) * 6.0) for a in tk]
+    run.integrals = np.zeros((net.n, t.size))
+    dk = np.array([d for _, d in run.rebases])
+    want = dk.T @ np.maximum(t[None, :] - tk[:, None], 0.0)
+    assert_allclose(run.rigid_integrals(), want, rtol=1e-13, atol=1e-13 * np.abs(want).max())

@@ -3,8 +3,9 @@
 * ``step_length``: ``min(8 / ||F~||, 4 / rho)``: a chain whose strand stiffness sets the
   norm steps by the norm, a stiff coupling whose own frequency is near the norm by the
   radius; the spectral radius of the sparse path comes from power steps.
-* ``_may_fire``: the Bernstein convex hull may rule a candidate out only where
-  ``_first_fire`` (sampling, refinement, Brent) finds no crossing.
+* ``_may_fire`` (the Bernstein convex hull) and ``stays_down`` (values and rates on a grid
+  with the bound of p'') may rule a candidate out only where ``first_fire`` (sampling,
+  refinement, Brent) finds no crossing.
 """
 
 from __future__ import annotations
@@ -15,6 +16,8 @@ import numpy as np
 import pytest
 
 from beltcalc.sim import switching
+from beltcalc.sim.firing import first_fire, stays_down
+from beltcalc.sim.sparse_parts import SparseParts
 from beltcalc.sim.scenes import SCENES, roller_table, sewing
 from test_switching_reference import params
 
@@ -58,7 +61,7 @@ def test_power_radius_of_a_sparse_chain_and_of_a_rotation():
     net = roller_table.build(params(rollers=12.0))
     t = np.linspace(0.0, 1.0, 11)
     run = switching.Run(net, t, np.zeros(net.size), 100)
-    F = switching._SparseParts(net, run.S).matrix(run.start_taut, 0.5)
+    F = SparseParts(net, run.S).scipy_matrix(run.start_taut, 0.5)
     exact = float(np.max(np.abs(np.linalg.eigvals(F.toarray()))))
     assert switching._power_radius(F) == pytest.approx(exact, rel=0.01)
     # a dominant complex pair of modulus 3 (the growth oscillates) above a real 2.9
@@ -95,5 +98,27 @@ def test_the_bernstein_hull_rules_out_only_what_first_fire_refuses():
         ruled_out += 1
         for from_start in (False, True):
             for limit in (1.0, 0.4):
-                assert switching._first_fire(C[k], d[k], float(tol[k]), from_start, limit) is None, k
+                assert first_fire(C[k], d[k], float(tol[k]), from_start, limit) is None, k
     assert ruled_out > 100                                 # it does rule out (the test can fail)
+
+
+def test_stays_down_rules_out_only_what_first_fire_refuses():
+    # the orbit's test in front of first_fire (a polynomial that stays below -tol, or starts
+    # within tol and falls all the way, cannot fire): on Taylor-like polynomials and on ones
+    # leaving their surface downwards (a strand just decided slack), whatever it rules out
+    # first_fire refuses too, from a restart or not, over the whole step or part of it
+    rng = np.random.default_rng(17)
+    C = _random_polynomials(rng, 600)
+    leaving = _random_polynomials(rng, 300)
+    leaving[:, 0] = rng.choice([0.0, 1e-17, -1e-17], size=300)
+    leaving[:, 1] = -np.abs(leaving[:, 1]) - 1e-3                  # falling from the surface
+    C = np.vstack([C, leaving])
+    d = rng.choice([-1.0, 1.0], size=len(C))
+    tol = 1024 * switching.EPS * np.abs(C).sum(axis=1)
+    pc = C * d[:, None]
+    down = stays_down(pc, tol)
+    for k in np.flatnonzero(down):
+        for from_start in (False, True):
+            for limit in (1.0, 0.4):
+                assert first_fire(C[k], d[k], float(tol[k]), from_start, limit) is None, k
+    assert down[:600].sum() > 50 and down[600:].sum() > 50       # it does rule out (the test can fail)

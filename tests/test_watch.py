@@ -12,7 +12,7 @@ from numpy.testing import assert_allclose
 from scipy.optimize import minimize_scalar
 
 from beltcalc.sim.switching import TERMS
-from beltcalc.sim.watch import polish_polynomials
+from beltcalc.sim.polish import polish_polynomials
 
 
 def reference_max(c: np.ndarray, a: float, b: float) -> float:
@@ -122,3 +122,42 @@ def test_stiff_mode_extremes_agree_with_a_million_samples(monkeypatch):
             assert c.min == pytest.approx(b.min, rel=0, abs=1e-8 * scale), name
             assert c.max == pytest.approx(float(y.max()), rel=0, abs=3e-5 * scale), name
             assert c.min == pytest.approx(float(y.min()), rel=0, abs=3e-5 * scale), name
+
+
+def test_polish_steps_by_cells_matches_the_search_on_the_whole_step():
+    # a sparse run's candidate steps: Newton around the best of COARSE points, then the full
+    # search only in the cells whose coarse values plus the rise bound still reach what it
+    # found; the same maximum as the search on the whole step (the reference above)
+    from beltcalc.sim.polish import COARSE, polish_steps
+
+    rng = np.random.default_rng(11)
+    C = taylor_like(rng, 80)
+    a = np.zeros(80)
+    b = rng.uniform(0.3, 1.0, 80)
+    s_c = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, COARSE)[None, :]
+    y = np.array([np.polynomial.Polynomial(c)(s) for c, s in zip(C, s_c)])
+    j = np.arange(C.shape[1])
+    rise = (np.abs(C) @ (j * (j - 1.0))) * ((b - a) / (COARSE - 1)) ** 2 / 8
+    best = np.full(80, -np.inf)
+    polish_steps(best, np.arange(80), C, s_c, y, rise, a, b)
+    want = np.array([reference_max(C[r], a[r], b[r]) for r in range(80)])
+    scale = np.abs(C).sum(axis=1)
+    assert_allclose(best / scale, want / scale, rtol=0, atol=1e-14)
+
+
+def test_pending_steps_keep_only_what_may_hold_the_extreme():
+    # the store of a sparse run's candidate steps: rows whose bound falls below their signal's
+    # best are dropped, the others kept with their coefficients (zero-padded to the widest)
+    from beltcalc.sim.polish import COARSE, PendingSteps
+
+    store = PendingSteps()
+    rng = np.random.default_rng(2)
+    who = np.array([0, 1, 1, 2])
+    bound = np.array([5.0, 1.0, 3.0, -1.0])
+    store.add(who, bound, rng.normal(size=(4, 7)), rng.normal(size=(4, COARSE)), np.ones(4), np.zeros(4), np.ones(4))
+    store.add(np.array([2]), np.array([0.5]), rng.normal(size=(1, 9)), rng.normal(size=(1, COARSE)),
+              np.ones(1), np.zeros(1), np.ones(1))
+    store.prune(np.array([4.0, 2.0, 0.0]))
+    kept_who, kept_bound, C, *_ = store.rows()
+    assert kept_who.tolist() == [0, 1, 2] and kept_bound.tolist() == [5.0, 3.0, 0.5]
+    assert C.shape == (3, 9) and np.all(C[:2, 7:] == 0.0)

@@ -52,9 +52,10 @@ from collections import OrderedDict
 import numpy as np
 
 from beltcalc.errors import SimulationError
+from beltcalc.sim.firing import EPS, first_fire, stays_down
 from beltcalc.sim.linalg import balance, expm
 from beltcalc.sim.propagate import augmented_matrix, orbit
-from beltcalc.sim.scalar import brentq, horner     # brentq: scipy's, bit for bit, without scipy.optimize
+from beltcalc.sim.sparse_parts import SparseParts
 
 _kernels = ...   # scipy's C kernels behind ``csr @ vector`` and ``csr @ dense``: looked up on first use
 
@@ -78,10 +79,10 @@ def _csr(A) -> tuple:
     """(rows, columns, indptr, indices, data) of a CSR matrix: a kernel's first arguments."""
     return (*A.shape, A.indptr, A.indices, A.data)
 
-EPS = np.finfo(float).eps
 THETA = 8.0          # ||F~ L||_1 on the bottom step at most ...
 RHO = 4.0            # ... and rho(F~) L at most (rho: the spectral radius): the terms grow at most ~exp(RHO)
 TERMS = 34           # terms at ||F~ L||_1 <= 4: 4^34 / 34! = 1e-18 < 2^-53, the Taylor series is exact to rounding
+TAIL = 2.0 ** -64    # the sparse orbit's terms: until the bound of the tail left is this of ||z||_1 (5e-20)
 ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |r_i z_i|
 STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
 TAYLOR_BYTES = 2e6  # a dense mode keeps its Taylor matrices (TERMS x size^2) up to this size (size <= 71)
@@ -92,8 +93,9 @@ CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 RADIUS_MARGIN = 1.25  # the sparse path's power-step radius, raised by this (it may come from below)
 NEAR_GROUP = 8       # rows of a block sharing one second-order reach bound (Mode.near) ...
 NEAR_GROUP_SIZE = 100    # ... on modes of at most this many states (the bound's set-up is 8 size^3)
-SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see _SparseParts)
+SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see SparseParts)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
+KEEP_FLOATS = 8e6    # a watched sparse block's Taylor terms kept for the watch (64 MB) at most
 REBASE_TURN = 2 * math.pi   # rad: a block's rotation before the angles are re-based (Run.rebase)
 MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer than the run is long)
 
@@ -212,11 +214,10 @@ class Mode:
     products; nothing of size states^2 is formed, so a new strand pattern costs little."""
 
     def __init__(self, network, taut: tuple[bool, ...], t_mid: float, S: np.ndarray, omega: float, rho: float,
-                 scale: float, parts: "_SparseParts | None" = None):
+                 scale: float, parts: "SparseParts | None" = None):
         self.taut = taut
         self.sparse = parts is not None
-        self.events = network.events(taut)
-        self.dirs = np.array([e.direction for e in self.events], dtype=float)
+        self._Ft = self._events = None
         self._P: dict[int, np.ndarray] = {}
         self._doubling: dict[int, list] = {}
         self._Q: dict[int, np.ndarray] = {}
@@ -225,21 +226,37 @@ class Mode:
         self._T = None
         self._B2 = None
         if self.sparse:
-            self.Ft = parts.matrix(taut, t_mid)
-            norm = float(abs(self.Ft).sum(axis=0).max())
+            # the events in the parts' fixed order, two per strand (:meth:`SparseParts.events`):
+            # the rows are every mode's (H shared), only their directions follow the pattern
+            self._parts = parts
+            self.dirs, self.event_strand = parts.directions(taut), parts.event_strand
+            self.n_events = self.dirs.size
+            self._csr_F, norm = parts.matrix(taut, t_mid)
+            self.size = S.size
             self.L = scale * step_length(norm, rho)
             self.terms = terms_for(norm * self.L)
+            # the orbit's test for the tail left after term j: ||V_j||_1 times this, at most
+            # TAIL times ||z||_1 (||V_(k+1)|| <= theta / (k + 1) ||V_k|| with theta = ||F~ L||_1)
+            theta = norm * self.L
+            j = np.arange(self.terms, dtype=float)
+            with np.errstate(divide="ignore"):
+                self._tail = np.where(j + 2 > theta, theta / (j + 1) / (1 - theta / (j + 2)), np.inf)
             self.K, self.h = 0, self.L
-            self.H = parts.rows(taut)
-            self.absH = abs(self.H)
+            self.H, self.absH = parts.H, parts.absH
             # (F~ L / j) for the Taylor recursion: one sparsity pattern, the data scaled per j
-            F = self.Ft.tocsr()
-            self._Ms = [(*F.shape, F.indptr, F.indices, F.data * (self.L / j)) for j in range(1, self.terms)]
-            self._H, self._absH = _csr(self.H.tocsr()), _csr(self.absH.tocsr())
+            indptr, indices, data = self._csr_F
+            scaled = data[None, :] * (self.L / np.arange(1, self.terms))[:, None]
+            self._Ms = [(self.size, self.size, indptr, indices, d) for d in scaled]
+            self._H, self._absH = _csr(self.H), _csr(self.absH)
             return
 
+        self._events = network.events(taut)
+        self.dirs = np.array([e.direction for e in self.events], dtype=float)
+        self.event_strand = np.array([e.strand for e in self.events], dtype=np.int64)
+        self.n_events = len(self.events)
         F = augmented_matrix(network, taut, t_mid)
-        self.Ft = F / S[:, None] * S[None, :]
+        self._Ft = F / S[:, None] * S[None, :]
+        self.size = F.shape[0]
         norm = float(np.abs(self.Ft).sum(axis=0).max())
         self.L = scale * step_length(norm, rho)
         self.terms = terms_for(norm * self.L)
@@ -249,6 +266,32 @@ class Mode:
         self.h = self.L * 2 ** self.K
         self.H = np.array([e.row for e in self.events]).reshape(len(self.events), F.shape[0]) * S[None, :]
         self.absH = np.abs(self.H)
+
+    @property
+    def Ft(self):
+        """The balanced F~: dense, or a sparse mode's as a scipy CSR matrix, formed when first
+        asked for (a chain builds a mode at nearly every switch; its steps use the arrays)."""
+        if self._Ft is None:
+            indptr, indices, data = self._csr_F
+            self._Ft = self._parts.sparse.csr_matrix((data, indices, indptr), shape=(self.size, self.size))
+        return self._Ft
+
+    @property
+    def events(self) -> list:
+        """The switching surfaces, as event objects (a sparse mode's formed when asked for)."""
+        if self._events is None:
+            self._events = self._parts.events(self.taut)
+        return self._events
+
+    def apply(self, X: np.ndarray) -> np.ndarray:
+        """F~ X for states X (states, columns): a sparse mode by scipy's kernel on its arrays."""
+        kernels = _sparse_kernels() if self.sparse else None
+        if kernels is None:
+            return self.Ft @ X
+        Y = np.zeros((self.size, X.shape[1]))
+        indptr, indices, data = self._csr_F
+        kernels[1](self.size, self.size, X.shape[1], indptr, indices, data, np.ascontiguousarray(X).ravel(), Y.ravel())
+        return Y
 
     def M(self, j: int):
         """``F~ L / j`` as a scipy sparse matrix (the sparse path where scipy's kernels are
@@ -261,7 +304,7 @@ class Mode:
         the squares at their most, 12 of the step for MAX_BLOCK and 15 each of the sample
         steps for 2^15 samples in one block, the integral's twice the size)."""
         if self.sparse:
-            return 12 * (self.terms * self.Ft.nnz + 2 * self.H.nnz)
+            return 8 * self.terms * self._csr_F[2].size
         m, terms = self.Ft.shape[0], self.terms
         taylor = terms * m * m if terms * m * m * 8 <= TAYLOR_BYTES else 0
         return 8 * (m * m * (3 + self.K + 12 + 15 + 4 * 15) + terms * self.H.size + taylor)
@@ -287,94 +330,175 @@ class Mode:
             for j in range(1, terms):
                 V[j] = self.M(j) @ V[j - 1] if Z.ndim == 1 else (self.M(j) @ V[j - 1].T).T
             return V
+        # the terms up to where the tail's bound is TAIL of |z|_1 (every z's), as the orbit's
+        # steps: the rest stay 0
         if Z.ndim == 1:
             V = np.zeros((terms, Z.size))
             V[0] = Z
+            limit = TAIL * np.abs(Z).sum()
+            first = getattr(self, "_used", 9) - 1
             for j in range(1, terms):
                 kernels[0](*self._Ms[j - 1], V[j - 1], V[j])
+                if j >= first and np.abs(V[j]).sum() * self._tail[j] <= limit:
+                    break
             return V
         X = np.zeros((terms, Z.shape[1], Z.shape[0]))      # rows as columns: what csr @ dense reads
         X[0] = Z.T
+        limit = TAIL * np.abs(Z).sum(axis=1)
+        first = getattr(self, "_used", 9) - 1
         for j in range(1, terms):
             kernels[1](*self._Ms[j - 1][:2], Z.shape[0], *self._Ms[j - 1][2:], X[j - 1].ravel(), X[j].ravel())
+            if j >= first and np.all(np.abs(X[j]).sum(axis=0) * self._tail[j] <= limit):
+                break
         return X.transpose(0, 2, 1)
 
     def orbit(self, z: np.ndarray, count: int, stop_early: bool = False, integrate: bool = False,
-              midpoints: bool = False):
+              keep: np.ndarray | None = None, first: bool = False):
         """The states at ``count`` bottom steps from z (rows Z, count + 1 of them) and the
         switching functions' polynomial coefficients on each step, C (terms, events, count).
-        ``stop_early`` (sparse): end the block after the first step where a switching
-        function comes within its polynomial's reach of zero (nothing is propagated past a
-        switch only to be thrown away). ``integrate`` (sparse): also J, the integral of z over
-        each step (rows; None otherwise: a dense run integrates by :class:`_StepIntegrals`).
-        ``midpoints`` (sparse): keep each step's midpoint in ``self.mids`` (with the block's
-        first state), which the watch reads instead of a Taylor sum of its own."""
+        ``stop_early`` (sparse): end the block at the first step where a switching function
+        crosses (nothing is propagated past a switch only to be thrown away): where one comes
+        within its polynomial's reach of zero and may fire (:func:`_may_fire`,
+        :func:`stays_down`), the step is examined as :meth:`Run._scan_exact` examines it
+        (:func:`first_fire`; ``first``: z is a restart point), and the crossing found kept in
+        ``self.hit`` as (step, s, event), else None; the block's last step is left to the scan.
+        ``integrate`` (sparse): also J, the integral of z over each step (rows; None otherwise:
+        a dense run integrates by :class:`_StepIntegrals`).
+        ``keep`` (sparse): a scratch array of at least (count, terms, states) into which each
+        step's Taylor terms are written; ``self.block`` then holds (the block's first state,
+        each step's midpoint, the terms kept), which the watch reads instead of Taylor sums
+        of its own (the terms are those :meth:`taylor` forms, bit for bit: the same sparse
+        sums in the same order)."""
         if not self.sparse:
             return orbit(self.doubling(), z, count + 1), None, None
-        Z = np.empty((count + 1, z.size))
+        T, size = self.terms, z.size
+        Z = np.empty((count + 1, size))
         Z[0] = z
-        mids = np.empty((count if midpoints else 0, z.size))     # each step's midpoint (the watch's)
-        halves = 0.5 ** np.arange(self.terms)
-        self.mids = None
-        C = np.empty((count, len(self.events), self.terms))
-        J = np.empty((count, z.size)) if integrate else None
-        weights = self.L / np.arange(1, self.terms + 1)
-        V = np.empty((self.terms, z.size))
-        H, absH = self.H, self.absH
+        self.block = self.hit = None
+        mids = np.empty((count if keep is not None else 0, size))     # each step's midpoint (the watch's)
+        C = np.empty((count, self.n_events, T))          # filled where asked for: a hit, the last step
+        J = np.empty((count, size)) if integrate else None
+        W = np.empty((3, T))                             # one product a step: next state, midpoint, integral
+        W[0], W[1], W[2] = 1.0, 0.5 ** np.arange(T), self.L / np.arange(1, T + 1)
+        out = np.empty((3, size))
+        Vs = keep[:count, :T] if keep is not None else np.empty((1, T, size))
         kernels = _sparse_kernels()
-        E, T = len(self.events), self.terms
-        level = np.empty(E)
-        ones = np.ones(T)
-        if kernels is not None:          # the calls' arguments bound once: a step makes T of them
-            matvec, matvecs = kernels
-            rows = list(V)
-            chain = list(zip(self._Ms, rows, rows[1:]))
-            Vt = np.empty((z.size, T))
-            h_args, vt, tail = (*self._H[:2], T, *self._H[2:]), Vt.ravel(), V[1:]
+        E = self.n_events
+        level, c0, c1, rest = np.empty(E), np.empty(E), np.empty(E), np.empty(E)
+        tail = self._tail
+        used = getattr(self, "_used", min(T, 16))     # terms the last step needed: the next is tested from there
+        # the terms up to the first j whose tail bound is below TAIL ||z||_1 (the rest stay 0):
+        # the series' own decay, exp(rho L) rather than exp(||F~ L||), decides how many
+        limit = TAIL * np.abs(z).sum()
+        rows = list(Vs[0])
+        chain = list(zip(self._Ms, rows, rows[1:]))
         for i in range(count):           # sequential: each step's Taylor sum of sparse products
+            V = Vs[0]
+            if keep is not None and i:           # this step's own rows of the kept terms
+                V = Vs[i]
+                rows = list(V)
+                chain = list(zip(self._Ms, rows, rows[1:]))
             V[0] = Z[i]
+            n = T
             if kernels is not None:
-                tail.fill(0.0)
-                for args, x, y in chain:
+                V[1:].fill(0.0)
+                matvec = kernels[0]
+                for j, (args, x, y) in enumerate(chain, 1):
                     matvec(*args, x, y)
-                c = C[i]
-                c.fill(0.0)
-                np.copyto(Vt, V.T)
-                matvecs(*h_args, vt, c.ravel())
+                    if j >= used - 1 and np.abs(y).sum() * tail[j] <= limit:
+                        n = j + 1
+                        break
             else:
                 for j in range(1, T):
                     V[j] = self.M(j) @ V[j - 1]
-                c = C[i] = H @ V.T
-            np.matmul(ones, V, out=Z[i + 1])
-            if midpoints:
-                np.matmul(halves, V, out=mids[i])
+            used = n
+            Vn = V[:n]
+            np.matmul(W[:, :n], Vn, out=out)
+            Z[i + 1] = out[0]
+            if keep is not None:
+                mids[i] = out[1]
             if integrate:
-                J[i] = weights @ V
-            if stop_early and i + 1 < count:           # a step where some function may reach zero: stop here
-                reach = np.abs(c[:, 1:]) @ ones[1:]
-                if kernels is not None:
-                    level[:] = 0.0
-                    kernels[0](*self._absH, np.abs(Z[i]), level)
-                else:
-                    level = absH @ np.abs(Z[i])
-                tol = ROUND * level + 1e-300
-                if np.any((np.abs(c[:, 0]) <= reach + tol) & (reach + np.abs(c[:, 0]) > tol)):
-                    if midpoints:
-                        self.mids = (mids[:i + 1], Z[0].copy())
-                    return Z[:i + 2], C[:i + 1].transpose(2, 1, 0), (J[:i + 1] if integrate else None)
-        if midpoints:
-            self.mids = (mids, Z[0].copy())
-        return Z, C.transpose(2, 1, 0), J
+                J[i] = out[2]
+            if not (stop_early and i + 1 < count):      # the block's last step: the scan's, in full
+                C[i, :, :n] = self._coefficients(Vn)
+                C[i, :, n:] = 0.0
+                continue
+            # a step where some function may cross: its value H z, its rate H V_1 and the rest
+            # bounded by |H| sum_(j>=2) |V_j| (a switching function's polynomial's reach), then
+            # the exact coefficients of those that come within it of zero, and the test
+            # Run._scan_exact makes: near, its Bernstein hull, its values, then first_fire
+            if kernels is not None:
+                for buf, vec, mat in ((c0, Z[i], self._H), (c1, V[1], self._H),
+                                      (rest, np.abs(V[2:n]).sum(axis=0), self._absH),
+                                      (level, np.abs(Z[i]), self._absH)):
+                    buf[:] = 0.0
+                    kernels[0](*mat, vec, buf)
+            else:
+                c0[:], c1[:] = self.H @ Z[i], self.H @ V[1]
+                rest[:], level[:] = self.absH @ np.abs(V[2:n]).sum(axis=0), self.absH @ np.abs(Z[i])
+            tol = ROUND * level + 1e-300
+            bound = np.abs(c1) + rest
+            near = np.flatnonzero((np.abs(c0) <= bound + tol) & (bound + np.abs(c0) > tol))
+            if not near.size:
+                continue
+            c = np.zeros((near.size, T))
+            c[:, :n] = self._coefficients(Vn, near)
+            reach = np.abs(c[:, 1:]).sum(axis=1)
+            keep_e = (np.abs(c[:, 0]) <= reach + tol[near]) & (reach + np.abs(c[:, 0]) > tol[near])
+            near, c = near[keep_e], c[keep_e]
+            if not near.size:
+                continue
+            pc = c[:, :n] * self.dirs[near, None]
+            fire = _may_fire(pc.T[:, :, None], tol[near, None])[:, 0]
+            fire[fire] = ~stays_down(pc[fire], tol[near][fire])
+            best = None
+            for k in np.flatnonzero(fire):
+                e = int(near[k])
+                s = first_fire(c[k], self.dirs[e], float(tol[e]), not (first and i == 0))
+                if s is not None and (best is None or s < best[0]):
+                    best = (s, e)
+            if best is not None:
+                self.hit = (i, *best)
+                count = i + 1
+                break
+        self._used = used
+        if keep is not None:
+            self.block = (Z[0].copy(), mids[:count], Vs[:count])
+        return Z[:count + 1], C[:count].transpose(2, 1, 0), (J[:count] if integrate else None)
+
+    def _coefficients(self, V: np.ndarray, events: np.ndarray | None = None) -> np.ndarray:
+        """(events, terms of V): the switching functions' polynomial coefficients ``H V^T`` on
+        a step from its Taylor terms V, every event's (a sparse product) or ``events``' (their
+        rows' nonzeros gathered: the same sums in the same order)."""
+        kernels = _sparse_kernels()
+        n = V.shape[0]
+        if events is None:
+            if kernels is None:
+                return np.asarray(self.H @ V.T)
+            Vt = np.ascontiguousarray(V.T)
+            c = np.zeros((self.n_events, n))
+            kernels[1](*self._H[:2], n, *self._H[2:], Vt.ravel(), c.ravel())
+            return c
+        ptr, idx, data = self._H[2:]
+        count = ptr[events + 1] - ptr[events]
+        first = np.cumsum(count) - count
+        at = np.arange(int(count.sum())) - np.repeat(first - ptr[events], count)
+        G = V[:, idx[at]] * data[at]                     # (terms, nonzeros)
+        c = np.zeros((events.size, n))
+        some = count > 0
+        if some.any():
+            c[some] = np.add.reduceat(G, first[some], axis=1).T
+        return c
 
     def coeffs(self, Z: np.ndarray) -> np.ndarray:
         """C (terms, events, rows of Z): every switching function's polynomial on the bottom
         step from each row of Z."""
-        if not self.events:
+        if not self.n_events:
             return np.zeros((self.terms, 0, Z.shape[0]))
         if self.sparse:
             V = self.taylor(Z)                                       # (terms, count, size)
             return np.stack([(self.H @ V[j].T) for j in range(self.terms)])
-        E = len(self.events)
+        E = self.n_events
         self._coeff_rows += Z.shape[0]
         if self._R is None and self._coeff_rows < E:
             # forming R (terms x events x size^2) costs as much as the Taylor terms of as many
@@ -518,11 +642,20 @@ class Mode:
             self._R = R
         return self._R
 
-    def at(self, z: np.ndarray, tau: np.ndarray | float, integrate: bool = False):
+    def kept(self, z0: np.ndarray) -> np.ndarray | None:
+        """The Taylor terms (steps, terms, states) the orbit kept of its last block
+        (:meth:`orbit`'s ``keep``) if that block started at ``z0``, else None."""
+        block = getattr(self, "block", None)
+        if block is None or not np.array_equal(block[0], z0):
+            return None
+        return block[2]
+
+    def at(self, z: np.ndarray, tau: np.ndarray | float, integrate: bool = False, V: np.ndarray | None = None):
         """The exact state a time tau in [0, h] after z (rows of z for an array of tau):
         the ladder for the whole bottom steps of tau, the Taylor sum for the rest. With
         ``integrate``: (state, integral of the state from 0 to tau), the integral summed
-        the same way (``Q`` per ladder step, ``L sum_j V_j s^(j+1) / (j+1)`` for the rest)."""
+        the same way (``Q`` per ladder step, ``L sum_j V_j s^(j+1) / (j+1)`` for the rest).
+        ``V``: z's Taylor terms where the caller has them (a mode without a ladder)."""
         tau = np.asarray(tau, dtype=float)
         Z = np.array(z, dtype=float, copy=True)
         I = np.zeros_like(Z) if integrate else None
@@ -542,52 +675,11 @@ class Mode:
                     Z[bit == 1] = Z[bit == 1] @ self.P(k).T
         else:
             frac = tau / self.L
-        V = self.taylor(Z)
+        V = self.taylor(Z) if V is None or self.K else V
         if not integrate:
             return _horner(V, frac)
         W = V * (self.L / np.arange(1, self.terms + 1)).reshape((self.terms,) + (1,) * (V.ndim - 1))
         return _horner(V, frac), I + _horner(W, frac) * (frac[:, None] if np.ndim(frac) else frac)
-
-
-class _SparseParts:
-    """The balanced ``F~`` of any strand pattern, and its switching rows, from sparse pieces:
-    the all-slack matrix of each time piece (built once) plus the stamps of the taut
-    strands (:meth:`beltcalc.sim.network.Network.strand_stamps`), scaled by S."""
-
-    def __init__(self, network, S: np.ndarray):
-        from scipy import sparse
-
-        self.network, self.S, self.sparse = network, S, sparse
-        self.owner, self.r, self.c, v = network.strand_stamps()
-        self.v = v / S[self.r] * S[self.c]
-        self.none = tuple(False for _ in network.strands)
-        self._base: dict = {}
-        delta, force = network.strand_rows()
-        self.rows_all = sparse.csr_matrix(np.vstack([force, delta]) * S[None, :])
-        self.ns = len(network.strands)
-
-    def matrix(self, taut: tuple[bool, ...], t_mid: float):
-
-        base = self._base.get(t_mid)
-        if base is None:
-            F = augmented_matrix(self.network, self.none, t_mid) / self.S[:, None] * self.S[None, :]
-            r, c = np.nonzero(F)
-            base = self._base[t_mid] = (r, c, F[r, c])
-        sel = np.asarray(taut, dtype=bool)[self.owner]
-        rows = np.concatenate([base[0], self.r[sel]])
-        cols = np.concatenate([base[1], self.c[sel]])
-        vals = np.concatenate([base[2], self.v[sel]])
-        m = self.S.size
-        F = self.sparse.csr_matrix((vals, (rows, cols)), shape=(m, m))
-        F.sum_duplicates()            # one entry per place: the norm must not count cancelling parts twice
-        return F
-
-    def rows(self, taut: tuple[bool, ...]):
-        """The event rows in :meth:`Network.events` order: taut (force, delta), slack (delta, force)."""
-        on = np.asarray(taut, dtype=bool)
-        k = np.arange(self.ns)
-        first, second = np.where(on, k, self.ns + k), np.where(on, self.ns + k, k)
-        return self.rows_all[np.stack([first, second], axis=1).ravel()]
 
 
 class _Cache:
@@ -635,93 +727,16 @@ def _bernstein(terms: int) -> np.ndarray:
 
 def _may_fire(pc: np.ndarray, tol: np.ndarray) -> np.ndarray:
     """(events, columns): whether each firing-side polynomial ``pc[:, e, q]`` (terms first,
-    ``d p`` of :func:`_first_fire`) can fire on [0, 1] at all, by the convex hull of its
-    Bernstein coefficients (every value of p on [0, 1] lies between their least and largest):
-    not if it never rises above 0, nor if it starts on the firing side beyond ``tol`` and
-    never comes back to 0. Every step this rules out is one :func:`_first_fire` would have
+    ``d p`` of :func:`beltcalc.sim.firing.first_fire`) can fire on [0, 1] at all, by the convex
+    hull of its Bernstein coefficients (every value of p on [0, 1] lies between their least and
+    largest): not if it never rises above 0, nor if it starts on the firing side beyond ``tol``
+    and never comes back to 0. Every step this rules out is one ``first_fire`` would have
     refused after sampling and refining it (a strand at rest on its surface, its values
     exactly 0 at the step's start: hundreds of refinements each)."""
     T, E, Q = pc.shape
     B = (_bernstein(T) @ pc.reshape(T, E * Q)).reshape(T, E, Q)
     stays_up = (pc[0] > tol) & (B.min(axis=0) > 0)
     return (B.max(axis=0) > 0) & ~stays_up
-
-
-def _first_fire(c: np.ndarray, d: float, tol: float, from_start: bool, limit: float = 1.0) -> float | None:
-    """The first s in [0, limit] where d * p(s) (p: coefficients ``c``, lowest first) crosses
-    from <= 0 to > 0 and goes on beyond ``tol`` (an excursion that stays within ``tol`` is a
-    graze). ``from_start`` False ignores an excursion already under way at s = 0 (a restart
-    just decided it); True counts one that starts at s = 0 from within ``tol``."""
-    pc = d * c
-    dpc = np.arange(1, pc.size) * pc[1:]                 # p' and p'' (numpy's polyder, operation for operation)
-    M2 = float(np.sum(np.abs(np.arange(1, dpc.size) * dpc[1:])))     # max |p''| on [0, 1]
-    pl, dpl = pc.tolist(), dpc.tolist()
-
-    def p(x: float) -> float:
-        return horner(pl, float(x))
-
-    def dp(x: float) -> float:
-        return horner(dpl, float(x))
-
-    grid = np.linspace(0.0, limit, 33)
-    vals = horner(pl, grid).tolist()
-    grid = grid.tolist()
-    # refine gaps where the sampled values cannot rule out a hidden dip through zero
-    i, guard = 0, 0
-    while i < len(grid) - 1 and guard < 4000:
-        a, b, va, vb = grid[i], grid[i + 1], vals[i], vals[i + 1]
-        w = b - a
-        bend = M2 * w * w / 8
-        hidden = (va > 0) == (vb > 0) and min(abs(va), abs(vb)) <= bend and bend > tol
-        if hidden or ((va > 0) != (vb > 0) and abs(dp(0.5 * (a + b))) <= M2 * w / 2 and bend > tol):
-            mid = 0.5 * (a + b)
-            grid.insert(i + 1, mid)
-            vals.insert(i + 1, float(p(mid)))
-            guard += 1
-            continue
-        i += 1
-    vals = np.array(vals)
-    grid = np.array(grid)
-    k = 0
-    if abs(vals[0]) <= tol:                  # on the surface at s = 0
-        big = np.nonzero(np.abs(vals) > tol)[0]
-        if big.size == 0:
-            return None                      # stays within rounding of the surface: a graze
-        k0 = int(big[0])
-        if vals[k0] > 0:
-            if from_start:                   # leaves the surface to the firing side: the last root before
-                nonpos = np.nonzero(vals[:k0] <= 0)[0]
-                if nonpos.size == 0:
-                    return 0.0
-                j = int(nonpos[-1]) + 1
-                return float(brentq(p, grid[j - 1], grid[j], xtol=1e-16, rtol=4 * EPS, maxiter=200))
-            back = np.nonzero(vals[k0:] <= 0)[0]     # a restart decided this departure: skip it
-            if back.size == 0:
-                return None
-            k = k0 + int(back[0])
-        else:
-            k = k0
-    elif vals[0] > 0:                        # already on the firing side: wait until it comes back
-        back = np.nonzero(vals <= 0)[0]
-        if back.size == 0:
-            return None
-        k = int(back[0])
-    while k < len(vals) - 1:
-        ups = np.nonzero(vals[k + 1:] > 0)[0]
-        if ups.size == 0:
-            return None
-        j = k + 1 + int(ups[0])             # vals[j-1] <= 0 < vals[j]
-        downs = np.nonzero(vals[j:] <= 0)[0]
-        end = j + int(downs[0]) if downs.size else len(vals)
-        peak = float(np.max(vals[j:end]))
-        growing = end == len(vals) and float(dp(grid[-1])) > 0
-        if peak > tol or growing:
-            lo, hi = grid[j - 1], grid[j]
-            if p(lo) == 0.0:
-                return float(lo)
-            return float(brentq(p, lo, hi, xtol=1e-16, rtol=4 * EPS, maxiter=200))
-        k = end
-    return None
 
 
 class Run:
@@ -742,8 +757,8 @@ class Run:
         parts = None
         if F0.shape[0] >= SPARSE_SIZE and network.strands:
             # no stiff ladder on the sparse path; the spectral radius by power steps
-            parts, omega = _SparseParts(network, self.S), 0.0
-            rho = RADIUS_MARGIN * _power_radius(parts.matrix(all_taut, network.piece_time(0, self.starts, t_end)))
+            parts, omega = SparseParts(network, self.S), 0.0
+            rho = RADIUS_MARGIN * _power_radius(parts.scipy_matrix(all_taut, network.piece_time(0, self.starts, t_end)))
         else:
             # the fastest oscillation (stiff ladders) and the spectral radius (the step) of
             # the all-taut matrix: a slack strand takes a spring and a damper away
@@ -783,9 +798,18 @@ class Run:
         self.located = 0
         self.steps = 0
         self.first_block = FIRST_BLOCK
+        self._scratch = None
         delta, force = network.strand_rows()
         self.delta = delta * self.S[None, :]
         self.force = force * self.S[None, :]
+        # decide()'s products with every strand's rows and their magnitudes (|rows|^T: the
+        # levels are mag @ |rows|^T), sparse on the sparse path
+        if parts is not None:
+            D, Fo = parts.sparse.csr_matrix(self.delta), parts.sparse.csr_matrix(self.force)
+            self._strand_ops = (D, Fo, lambda mag, A=abs(D): A @ mag, lambda mag, A=abs(Fo): A @ mag)
+        else:
+            self._strand_ops = (self.delta, self.force, lambda mag, A=np.abs(self.delta).T: mag @ A,
+                                lambda mag, A=np.abs(self.force).T: mag @ A)
         z = np.concatenate([x0, network.generators(0.0)]) / self.S
         self.I_run = np.zeros_like(z)
         if watch is not None:
@@ -833,6 +857,11 @@ class Run:
         k = np.clip(np.searchsorted(t_base, t[idx], side="right") - 1, 0, len(t_base) - 1)
         tau = np.clip(t[idx] - t_base[k], 0.0, mode.h)
         many = not mode.sparse and idx.size >= 16 and self.uniform
+        V = None
+        if mode.sparse:                  # the Taylor terms of the block's steps, where the orbit kept them
+            kept = mode.kept(base[0])
+            if kept is not None and k[-1] < kept.shape[0]:
+                V = kept[k].transpose(1, 0, 2)
         if many and not self.integrate:
             # many samples in one piece: the first off its step, the rest by expm(F~ dt) powers
             # (one m^2 product per sample instead of a Taylor sum of TERMS)
@@ -844,14 +873,15 @@ class Run:
                 W = orbit(mode.step_integral(self.dt), np.concatenate([z0, I0 + I_base[k[0]]]), idx.size)
                 Z, I = W[:, :z0.size], W[:, z0.size:]
             else:
-                Z, I = mode.at(base[k], tau, integrate=True)
+                Z, I = mode.at(base[k], tau, integrate=True, V=V)
                 I += I_base[k]
             cols = slice(self.next_out, stop)          # the samples written: idx, as a slice
             self.integrals[:, cols] = (I * self.S[None, :]).T[:self.m]
             on = np.asarray(mode.taut, dtype=float)
-            self.force_integrals[:, cols] = self.F_run[:, None] + on[:, None] * (self.force @ (I - self.I_piece).T)
+            forces = self._strand_ops[1] @ (I - self.I_piece).T
+            self.force_integrals[:, cols] = self.F_run[:, None] + on[:, None] * forces
         else:
-            Z = mode.at(base[k], tau)
+            Z = mode.at(base[k], tau, V=V)
         self.out[:, self.next_out:stop] = (Z * self.S[None, :]).T[:self.m]
         if self.theta.size:
             self.theta_out[:, self.next_out:stop] = self.theta[:, None]
@@ -891,7 +921,20 @@ class Run:
             return None
         tk = np.array([r[0] for r in self.rebases])
         dk = np.array([r[1] for r in self.rebases])             # (rebases, components)
-        return dk.T @ np.maximum(self.t[None, :] - tk[:, None], 0.0)
+        t = self.t
+        # sample by sample, in O(rebases + samples) (a switching run re-bases at every block:
+        # 20,000 times at 100 rollers): I(t_i) - I(t_(i-1)) = A(t_(i-1)) (t_i - t_(i-1)) plus
+        # d_k (t_i - t_k) of the rebases in (t_(i-1), t_i], A(t) the rotation taken out by t
+        at = np.searchsorted(t, tk, side="left")               # the first sample at or after each
+        inside = at < t.size
+        at, tk, dk = at[inside], tk[inside], dk[inside]
+        step = np.zeros((dk.shape[1], t.size))
+        for c in range(dk.shape[1]):
+            local = np.bincount(at, weights=dk[:, c] * (t[at] - tk), minlength=t.size)
+            taken = np.cumsum(np.bincount(at, weights=dk[:, c], minlength=t.size))
+            step[c, 1:] = taken[:-1] * np.diff(t)
+            step[c] += local
+        return np.cumsum(step, axis=1)
 
     # --- decisions ----------------------------------------------------------------------------
     def decide(self, z: np.ndarray, taut: tuple[bool, ...], seg: int, strands) -> tuple[bool, ...]:
@@ -902,7 +945,7 @@ class Run:
 
         "On a surface" means within the rounding level of a value read off the exact
         solution: ``ROUND`` times the sum of the magnitudes of its Taylor terms over one
-        bottom step (:meth:`_levels`). A located switch sits there: its value is a root of
+        bottom step (``|rows| sum_j |V_j|``). A located switch sits there: its value is a root of
         the step's polynomial, so what is left of it (e.g. ``delta = -3e-20 m`` at a take-up
         without pretension) is rounding, and its sign says nothing; the rate decides."""
         if not len(self.network.strands):
@@ -910,9 +953,12 @@ class Run:
         t_mid = self.network.piece_time(seg, self.starts, self.t_end)
         here = self.cache.get(taut, seg, t_mid)
         V = here.taylor(z)
-        dv, fv = self.delta @ z, self.force @ z
-        on_d = np.abs(dv) <= self._levels(self.delta, V)
-        on_f = np.abs(fv) <= self._levels(self.force, V)
+        terms = {taut: V}                    # z's Taylor terms per pattern tried
+        D, Fo, level_d, level_f = self._strand_ops
+        dv, fv = D @ z, Fo @ z
+        mag = np.abs(V).sum(axis=0)          # the magnitudes that enter the Taylor sum
+        on_d = np.abs(dv) <= ROUND * level_d(mag) + 1e-300
+        on_f = np.abs(fv) <= ROUND * level_f(mag) + 1e-300
         pattern = list(taut)
         for k in strands:
             if not (on_d[k] or on_f[k]):
@@ -923,8 +969,10 @@ class Run:
             for k in near:
                 trial = tuple(pattern[:k] + [True] + pattern[k + 1:])
                 mode = self.cache.get(trial, seg, t_mid)
-                Vt = mode.taylor(z)
-                up = self._leaves_up(self.delta[k], Vt, on_d[k]) and self._leaves_up(self.force[k], Vt, on_f[k])
+                Vt = terms.get(trial)
+                if Vt is None:
+                    Vt = terms[trial] = mode.taylor(z)
+                up = self._leaves_up(self.delta, k, Vt, on_d[k]) and self._leaves_up(self.force, k, Vt, on_f[k])
                 if pattern[k] != up:
                     pattern[k], changed = up, True
             if not changed:
@@ -932,30 +980,31 @@ class Run:
         return tuple(pattern)
 
     @staticmethod
-    def _levels(rows: np.ndarray, V: np.ndarray) -> np.ndarray:
-        """Rounding level of each row . z read off the exact solution: ROUND times
-        ``sum_j |rows| @ |V[j]|``, the magnitudes that enter the Taylor sum over one bottom
-        step (positions that cancel in an elongation, and the rate terms a located root
-        balances against)."""
-        return ROUND * (np.abs(V).sum(axis=0) @ np.abs(rows).T) + 1e-300
-
-    def _leaves_up(self, row: np.ndarray, V: np.ndarray, on: bool) -> bool:
-        """Whether row . z(s) is >= 0 just after s = 0. Off its surface the value decides; on
-        it (``on``), the first rate coefficient beyond rounding does (none: at rest, which
-        counts as taut)."""
-        c = V @ row
+    def _leaves_up(rows: np.ndarray, k: int, V: np.ndarray, on: bool) -> bool:
+        """Whether rows[k] . z(s) is >= 0 just after s = 0 (V: z's Taylor terms). Off its
+        surface the value decides; on it (``on``), the first rate coefficient beyond rounding
+        does (none: at rest, which counts as taut). A large network's over the row's nonzeros
+        only (a strand's row reads a few states of a chain's thousands)."""
+        W, row = V, rows[k]
+        if row.size >= SPARSE_SIZE:
+            cols = np.flatnonzero(row)
+            W, row = V[:, cols], row[cols]
+        c = W @ row
         if not on:
             return bool(c[0] > 0)
-        tol = ROUND * (np.abs(V) @ np.abs(row)) + 1e-300
+        tol = ROUND * (np.abs(W) @ np.abs(row)) + 1e-300
         big = np.nonzero(np.abs(c[1:]) > tol[1:])[0]
         return True if big.size == 0 else bool(c[1 + big[0]] > 0)
 
     # --- scanning -----------------------------------------------------------------------------
-    def _scan_exact(self, mode: Mode, Z: np.ndarray, first: bool, limit: float = 1.0, C: np.ndarray | None = None):
+    def _scan_exact(self, mode: Mode, Z: np.ndarray, first: bool, limit: float = 1.0, C: np.ndarray | None = None,
+                    cleared: int = 0):
         """The first crossing on the bottom steps Z[i] -> Z[i+1] (rows): (i, s, event) or None.
         ``first``: Z[0] is a restart point. ``limit``: fraction of the last step to examine.
-        ``C``: the steps' polynomial coefficients when the orbit already has them."""
-        if not mode.events:
+        ``C``: the steps' polynomial coefficients when the orbit already has them; ``cleared``:
+        the first steps the orbit already found no switching function near zero on (its
+        ``stop_early`` test is the candidate test below)."""
+        if not mode.n_events:
             return None
         count = Z.shape[0] - 1
         if C is None:                 # dense: bound first, the full polynomial only where needed
@@ -964,19 +1013,19 @@ class Run:
                 return None
             C = mode.coeffs(Z[steps])
         else:
-            steps = np.arange(count)
-            C = C[:, :, :count]
+            steps = np.arange(cleared, count)
+            C = C[:, :, cleared:count]
         tol = mode.levels(Z[steps])                                          # (E, steps)
         reach = np.abs(C[1:]).sum(axis=0)
         cand = (np.abs(C[0]) <= reach + tol) & (reach + np.abs(C[0]) > tol)
-        cols = np.nonzero(cand.any(axis=0))[0]
-        if cols.size:
-            cand[:, cols] &= _may_fire(C[:, :, cols] * mode.dirs[None, :, None], tol[:, cols])
+        e, q = np.nonzero(cand)
+        if e.size:                  # the hull of each candidate's own polynomial (few of E x steps)
+            cand[e, q] = _may_fire((C[:, e, q] * mode.dirs[e])[:, None, :], tol[e, q][None, :])[0]
         for q in np.nonzero(cand.any(axis=0))[0]:      # q: column of C, steps[q]: the step
             i, best = int(steps[q]), None
             for e in np.nonzero(cand[:, q])[0]:
                 lim = limit if i == count - 1 else 1.0
-                s = _first_fire(C[:, e, q], mode.dirs[e], float(tol[e, q]), not (first and i == 0), lim)
+                s = first_fire(C[:, e, q], mode.dirs[e], float(tol[e, q]), not (first and i == 0), lim)
                 if s is not None and (best is None or s < best[0]):
                     best = (s, int(e))
             if best is not None:
@@ -1024,7 +1073,7 @@ class Run:
         propagates much past an early switch."""
         start = self.steps
         out = self._advance(mode, z, t0, t_stop)
-        m = mode.Ft.shape[0]
+        m = mode.size
         self.first_block = max(8, min(MAX_BLOCK, (self.steps - start) // 2, int(FIRST_FLOPS / (m * m))))
         return out
 
@@ -1036,7 +1085,7 @@ class Run:
         if rem <= 4 * EPS * max(abs(t_stop), h):
             rem = 0.0
         i, block, first = 0, self.first_block, True
-        most = max(8, int(SPARSE_BLOCK / (mode.terms * max(1, len(mode.events))))) if mode.sparse else MAX_BLOCK
+        most = max(8, int(SPARSE_BLOCK / (mode.terms * max(1, mode.n_events)))) if mode.sparse else MAX_BLOCK
         integ = self.integrate
         self.I_piece = self.I_run
         while i < n_full:
@@ -1049,10 +1098,12 @@ class Run:
             J = None
             if mode.K == 0:
                 Z, C, J = mode.orbit(z, cnt, stop_early=True, integrate=integ and mode.sparse,
-                                     midpoints=self.watch is not None and mode.sparse)
+                                     keep=self._keep(mode, cnt), first=first)
                 cnt = Z.shape[0] - 1
                 times = times[:cnt + 1]
-                hit = self._scan_exact(mode, Z, first, C=C)
+                hit = getattr(mode, "hit", None)
+                if hit is None:
+                    hit = self._scan_exact(mode, Z, first, C=C, cleared=cnt - 1 if mode.sparse else 0)
                 found = None if hit is None else (hit[0], hit[1] * h, hit[2])
                 self.steps += cnt
             else:
@@ -1074,11 +1125,13 @@ class Run:
                 j, tau, e = found
                 te = times[j] + tau
                 self.emit(mode, Z[:j + 1], times[:j + 1], te, I_base=Ib)
+                kept = mode.kept(Z[0]) if mode.sparse else None       # the step's Taylor terms
+                V = kept[j] if kept is not None and j < kept.shape[0] else None
                 if integ:
-                    z_e, I_e = mode.at(Z[j], tau, integrate=True)
+                    z_e, I_e = mode.at(Z[j], tau, integrate=True, V=V)
                     self.I_run = Ib[j] + I_e
                 else:
-                    z_e = mode.at(Z[j], tau)
+                    z_e = mode.at(Z[j], tau, V=V)
                 self._watch(mode, np.vstack([Z[:j + 1], z_e]), np.append(times[:j + 1], te))
                 return te, z_e, e
             self.emit(mode, Z[:cnt], times[:cnt], times[cnt], I_base=Ib)
@@ -1110,6 +1163,20 @@ class Run:
         self._watch(mode, z[None], np.array([t_stop]))
         return t_stop, z, None
 
+    def _keep(self, mode: Mode, count: int) -> np.ndarray | None:
+        """A scratch array for a watched sparse block's Taylor terms (:meth:`Mode.orbit`),
+        reused from block to block (the watch reads it before the next block), or None:
+        unwatched, dense, or larger than KEEP_FLOATS."""
+        if self.watch is None or not mode.sparse:
+            return None
+        shape = (count, mode.terms, mode.size)
+        if math.prod(shape) > KEEP_FLOATS:
+            return None
+        if self._scratch is None or any(a < b for a, b in zip(self._scratch.shape, shape)):
+            self._scratch = np.empty(tuple(max(a, b) for a, b in zip(shape, self._scratch.shape
+                                                                     if self._scratch is not None else shape)))
+        return self._scratch
+
     def _watch(self, mode: Mode, Z: np.ndarray, times: np.ndarray) -> None:
         if self.watch is not None:
             self.watch.update(mode, Z, times, len(self.piece_ends))
@@ -1136,7 +1203,8 @@ class Run:
             z = self.rebase(z, t_new)
             self.piece_ends.append(t_new)
             if self.integrate:
-                self.F_run = self.F_run + np.asarray(mode.taut, dtype=float) * (self.force @ (self.I_run - self.I_piece))
+                done = self._strand_ops[1] @ (self.I_run - self.I_piece)
+                self.F_run = self.F_run + np.asarray(mode.taut, dtype=float) * done
             if e is None:
                 t_cur, seg = t_stop, seg + 1
                 if seg < len(self.starts):           # the inputs change piece: re-decide strands on a surface
@@ -1146,11 +1214,11 @@ class Run:
                 continue
             self.located += 1
             if self.located > self.max_events:
-                name = net.strands[mode.events[e].strand].name
+                name = net.strands[mode.event_strand[e]].name
                 raise SimulationError(
                     f"method {self.method}: {self.max_events} strand events by t = {t_new:.6g} s (strand {name} "
                     "switches that often); add pretension or damping, or raise `max_events`")
-            new = self.decide(z, taut, seg, [mode.events[e].strand])
+            new = self.decide(z, taut, seg, [int(mode.event_strand[e])])
             self._log(t_new, taut, new)
             taut, t_cur = new, t_new
         mode = self.cache.get(taut, len(self.starts) - 1, net.piece_time(len(self.starts) - 1, self.starts, self.t_end))

@@ -15,10 +15,12 @@ the best value seen is a candidate. The result does not depend on the output sam
   extreme found) and goes into the run's error estimate. A stiff mode is seen at every
   bottom step where the run's budget allows (:meth:`Watch.walks`); beyond it the candidates
   are its coarse step points, 2^K bottom steps apart (docs/switching.md).
-* Sparse modes (large networks) settle every candidate step at once (:meth:`Watch._settle`):
-  its exact Taylor polynomial over the step, maximised: nothing is kept and nothing let go
-  (a 200-roller chain kept one candidate per signal in 64 MB, and what it let go was 1e-3 of
-  a shaft torque's scale).
+* Sparse modes (large networks) read each block in one product of the signals' rows (values,
+  midpoints, slopes and curvatures: F~ applied to the states, nothing formed per strand
+  pattern); a step on which a signal is monotone (its end slopes and the curvature bound) is
+  no candidate. Each candidate step's exact Taylor polynomial (the orbit's own terms) is read
+  at COARSE points at once, and waits for its polish while it may still hold the extreme
+  (:meth:`Watch._settle`, :mod:`beltcalc.sim.polish`): nothing is let go.
 
 Signals are rows over the state ``z = [x, g]``: a state, a coupling torque, or a strand
 force (its row while taut, zero while slack).
@@ -31,16 +33,15 @@ import math
 import numpy as np
 
 from beltcalc.sim.linalg import expm
-from beltcalc.sim.scalar import bounded_minimum
+from beltcalc.sim.polish import COARSE, GRID, PendingSteps, horner_rows, polish_polynomials, trim_terms
 from beltcalc.sim.propagate import orbit
+from beltcalc.sim.scalar import bounded_minimum
 from beltcalc.sim.switching import SPARSE_SIZE
 
-GRID = 257          # points per refinement interval before the local optimum is polished
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
 CANDIDATE_BYTES = 64e6  # ... as far as their step points fit this much
 KEPT_MODES = 8         # modes whose signal rows (half step, second derivative) are kept
 CURVE_SAFETY = 2.0     # the largest |s''| seen on a step and its neighbours, times this, bounds it there
-COARSE = 9            # points per step at which a sparse mode's candidate polynomials are read first
 FLAT = 1e-14          # ... and polished only where they may rise by more than this, relative
 SETTLE_FLOATS = 4e6    # polynomial coefficients a sparse mode's candidate steps form at once
 LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many
@@ -62,14 +63,14 @@ class Watch:
         """Attach to a run: rows in its balanced coordinates, empty records."""
         self.run = run
         self.O = self.rows * run.S[None, :]
-        # a large network's signal rows are sparse (a speed reads one state, a torque or a
-        # strand force four): the per-step products with every point go through them in
-        # O(nonzeros) (a 200-roller chain: 1,000 signals over 1,605 states, 6,000 nonzeros)
+        # a large network's signal rows are sparse (a speed reads one state, a torque four)
         self.Op = self.O
         if run.S.size >= SPARSE_SIZE:
             from scipy import sparse
 
             self.Op = sparse.csr_matrix(self.O)
+            self.Op.sort_indices()
+            self._csr = (self.Op.indptr.astype(np.int64), self.Op.indices.astype(np.int64), self.Op.data)
         # the run takes free rigid rotations out of the angles as it goes (Run.rebase): a
         # signal that sees them (an angle) is not watched; the samples give its extremes
         rigid = getattr(run, "rigid", np.zeros((0, run.S.size)))
@@ -100,6 +101,7 @@ class Watch:
         self._half: dict[tuple, tuple] = {}
         self._second: dict[tuple, np.ndarray] = {}
         self.uncertain: dict[tuple[str, float], tuple[float, float]] = {}
+        self._pending = {side: [PendingSteps() for _ in self.windows] for side in (1, -1)}
 
     def values(self, taut: tuple[bool, ...], Z: np.ndarray) -> np.ndarray:
         """(signals, rows of Z): the signals at the states Z in the strand pattern ``taut``
@@ -121,7 +123,7 @@ class Watch:
         coarse step point) rather than at its coarse step points, 2^K bottom steps apart,
         between which a signal that rings (a stiff coupling's torque) may peak unseen: where
         the run has at most WALK_POINTS bottom steps and the powers fit WALK_BYTES."""
-        m = mode.Ft.shape[0]
+        m = mode.size
         return bool(mode.K and not mode.sparse and self.run.t_end / mode.L <= WALK_POINTS
                     and 2 ** mode.K * m * m * 8 <= WALK_BYTES)
 
@@ -165,35 +167,49 @@ class Watch:
             yield np.vstack([Zb, Z[b]]), np.append(tb, times[b])
 
     def _rows2(self, mode) -> np.ndarray:
-        """The signals' second derivatives as rows over z: ``O F~^2`` (kept per mode)."""
+        """The signals' second derivatives as rows over z: ``O F~^2`` (kept per dense mode)."""
         O2 = self._second.get(mode.key)
         if O2 is None:
-            while len(self._second) >= KEPT_MODES:      # a chain makes thousands of strand patterns
+            while len(self._second) >= KEPT_MODES:
                 self._second.pop(next(iter(self._second)))
-            O2 = (self.Op @ mode.Ft) @ mode.Ft          # sparse where the rows and F~ are
-            if not mode.sparse and hasattr(O2, "toarray"):
-                O2 = O2.toarray()
-            self._second[mode.key] = O2
+            O2 = self._second[mode.key] = (self.O @ mode.Ft) @ mode.Ft
         return O2
 
+    def _sparse_reads(self, mode, Z: np.ndarray, times: np.ndarray, slack) -> tuple:
+        """A sparse mode's block in one product of the signals' rows: values at the points and
+        half way through each step (the orbit's midpoints where it kept them), first and |second|
+        derivatives at the points, second half way (F~ applied to the states: nothing formed
+        per strand pattern), each (signals, columns), a slack strand's force zero."""
+        dt = times[1:] - times[:-1]
+        npts, steps = Z.shape[0], Z.shape[0] - 1
+        X = np.empty((npts + steps, Z.shape[1]))
+        X[:npts] = Z
+        zs = X[npts:]
+        full = dt >= mode.L * (1 - 1e-9)
+        terms = mode.kept(Z[0])          # the orbit's own midpoints and Taylor terms of this block
+        if terms is not None and terms.shape[0] >= steps:
+            zs[full] = mode.block[1][:steps][full]
+        else:
+            full[:] = False
+        if not full.all():
+            part = np.flatnonzero(~full)
+            V = terms[part].transpose(1, 0, 2) if terms is not None and part[-1] < terms.shape[0] else None
+            zs[part] = mode.at(Z[part], dt[part] / 2, V=V)
+        D1 = mode.apply(X.T)
+        D2 = mode.apply(D1)
+        R = self.Op @ np.hstack([X.T, D1[:, :npts], D2])
+        if slack is not None:
+            R[slack] = 0.0
+        a, b = npts + steps, 2 * npts + steps
+        return R[:, :npts], R[:, npts:a], R[:, a:b], np.abs(R[:, b:b + npts]), R[:, b + npts:]
+
     def _halves(self, mode, Z: np.ndarray, times: np.ndarray, spacing: float) -> tuple[np.ndarray, np.ndarray]:
-        """(signals, rows - 1) twice: the signals and their second derivatives half way through
-        each step Z[i] -> Z[i+1]; a full step (``spacing`` long) by ``O expm(F~ spacing / 2)``
-        (one product of the signals' rows, kept per mode and spacing), a shorter one, and every
-        step of a sparse mode (no dense matrix of it), by the mode's own reading."""
+        """(signals, rows - 1) twice: a dense mode's signals and their second derivatives half
+        way through each step Z[i] -> Z[i+1]; a full step (``spacing`` long) by ``O expm(F~
+        spacing / 2)`` (one product of the signals' rows, kept per mode and spacing), a shorter
+        one by the mode's own reading (a sparse mode's: :meth:`_sparse_reads`)."""
         dt = times[1:] - times[:-1]
         O2 = self._rows2(mode)
-        if mode.sparse:
-            zs = np.empty((Z.shape[0] - 1, Z.shape[1]))
-            full = dt >= spacing * (1 - 1e-9)
-            kept = getattr(mode, "mids", None)          # the orbit's own midpoints of this block
-            if kept is not None and kept[0].shape[0] >= zs.shape[0] and np.array_equal(kept[1], Z[0]):
-                zs[full] = kept[0][:zs.shape[0]][full]
-            else:
-                full[:] = False
-            if not full.all():
-                zs[~full] = mode.at(Z[:-1][~full], dt[~full] / 2)
-            return self.Op @ zs.T, O2 @ zs.T
         key = (mode.key, spacing)
         hit = self._half.get(key)
         if hit is None:
@@ -222,16 +238,20 @@ class Watch:
         if key is None:
             key = self._key_index[mode.key] = len(self.keys)
             self.keys.append(mode.key)
-        vals = self.values(mode.taut, Z)
         npts = Z.shape[0]
         slack = self._slack(mode.taut) if self.strand.size and (self.strand >= 0).any() else None
+        if mode.sparse and npts > 1:
+            vals, mids, slope, curv, curv_m = self._sparse_reads(mode, Z, times, slack)
+        else:
+            vals = self.values(mode.taut, Z)
         if npts > 1:
-            spacing = mode.L if mode.K == 0 or self.walks(mode) else mode.h
-            mids, curv_m = self._halves(mode, Z, times, spacing)
-            curv = np.abs(self._rows2(mode) @ Z.T)
-            if slack is not None:
-                mids[slack] = 0.0
-                curv[slack], curv_m[slack] = 0.0, 0.0
+            if not mode.sparse:
+                spacing = mode.L if mode.K == 0 or self.walks(mode) else mode.h
+                mids, curv_m = self._halves(mode, Z, times, spacing)
+                curv = np.abs(self._rows2(mode) @ Z.T)
+                if slack is not None:
+                    mids[slack] = 0.0
+                    curv[slack], curv_m[slack] = 0.0, 0.0
             # per step: the largest value seen, and the bound of its rise between points seen
             top = {1: np.maximum(np.maximum(vals[:, :-1], vals[:, 1:]), mids),
                    -1: -np.minimum(np.minimum(vals[:, :-1], vals[:, 1:]), mids)}
@@ -239,7 +259,16 @@ class Watch:
             c2[:, 1:] = np.maximum(c2[:, 1:], c2[:, :-1].copy())
             c2[:, :-1] = np.maximum(c2[:, :-1], c2[:, 1:].copy())
             d = 0.5 * (times[1:] - times[:-1])
-            rise = CURVE_SAFETY * c2 * (d * d / 8)[None, :]
+            rise = monotone = CURVE_SAFETY * c2 * (d * d / 8)[None, :]
+            if mode.sparse:
+                # a step on which the signal is monotone has its extremes at its ends, both seen:
+                # no candidate. With |s''| <= CURVE_SAFETY c2 (the bound of the rise), s' keeps its
+                # sign on the step where both ends' slopes have it and their sum exceeds that
+                # bound times the step (the two lines s'(t0) - M tau and s'(t1) - M (dt - tau))
+                a0, a1 = slope[:, :-1], slope[:, 1:]
+                turn = CURVE_SAFETY * c2 * (2 * d)[None, :]
+                steady = ((a0 > 0) & (a1 > 0) & (a0 + a1 > turn)) | ((a0 < 0) & (a1 < 0) & (a0 + a1 < -turn))
+                monotone = np.where(steady, -np.inf, rise)
             seen_t = np.empty(2 * npts - 1)
             seen_t[0::2], seen_t[1::2] = times, 0.5 * (times[:-1] + times[1:])
             seen = np.empty((vals.shape[0], 2 * npts - 1))
@@ -247,7 +276,7 @@ class Watch:
             step_end = times[1:]
         else:
             top = {1: vals, -1: -vals}
-            rise = np.zeros_like(vals)
+            rise = monotone = np.zeros_like(vals)
             seen_t, seen = times, vals
             step_end = times
         nsteps = top[1].shape[1]
@@ -262,8 +291,13 @@ class Watch:
                 self.best[side][w] = best
                 if mode.sparse and npts == 1:
                     continue                  # a point alone: its value is all there is
-                u = top[side][:, s0:] + rise[:, s0:]
-                u = np.where(u >= best[:, None], u, -np.inf)
+                u = top[side][:, s0:] + monotone[:, s0:]
+                if s0 < nsteps and npts > 1 and times[s0] < start:   # the window starts inside step s0:
+                    u[:, 0] = top[side][:, s0] + rise[:, s0]          # its value there is not seen
+                reach = u >= best[:, None]
+                if mode.sparse and side == -1:      # a strand's least force seen at 0 is its least
+                    reach[(self.strand >= 0) & (best >= 0.0)] = False     # (finish: it pulls)
+                u = np.where(reach, u, -np.inf)
                 if not np.isfinite(u).any():
                     continue
                 if mode.sparse:
@@ -274,69 +308,84 @@ class Watch:
 
     def _settle(self, mode, side: int, w: int, start: float, u: np.ndarray, s0: int, Z: np.ndarray,
                 times: np.ndarray, slack: np.ndarray | None) -> None:
-        """A sparse mode's candidate steps (``u`` finite: signals, steps from s0) maximised at
-        once, each on its exact Taylor polynomial from the step's first point over the step
-        (and the window): no candidate is kept for later and none is let go. The steps' Taylor
-        terms are formed once for all the signals that ask for them (sparse products, as the
-        orbit's own step), SETTLE_FLOATS coefficients at a time."""
+        """A sparse mode's candidate steps (``u`` finite: signals, steps from s0), each on its
+        exact Taylor polynomial from the step's first point over the step (and the window):
+        first read at COARSE points, values of the signal that raise the best; a step whose
+        coarse best plus the most its polynomial can rise between them still reaches the best
+        is kept pending (:class:`beltcalc.sim.polish.PendingSteps`) and polished only if it still
+        does when the pending rows fill up or the run ends (:meth:`finish`). Nothing is let go. A start-up
+        raises a signal's best at every block, so most candidates are passed by a later one
+        and never polished. The steps' Taylor terms are the orbit's own where it kept them
+        (:meth:`beltcalc.sim.switching.Mode.orbit`), else formed once for every signal that asks
+        (sparse products, as the orbit's step); only the asked signals' coefficients are
+        formed, pair by pair (:meth:`_coefficients`), SETTLE_FLOATS at a time."""
         skip = self.moves if slack is None else (self.moves | slack)
         sig, col = np.nonzero(np.isfinite(u) & ~skip[:, None])
         if sig.size == 0:
             return
         steps = s0 + col
-        uniq, inv = np.unique(steps, return_inverse=True)
-        rows = np.unique(sig)
-        Orows = self.Op[rows]
-        at_row = np.searchsorted(rows, sig)
+        order = np.argsort(steps, kind="stable")         # by step: a chunk's steps are few
+        sig, steps = sig[order], steps[order]
+        kept = mode.kept(Z[0])
         L = mode.L
-        per = max(1, int(SETTLE_FLOATS // max(1, rows.size * mode.terms)))
+        # what each pair costs: its coefficients, and a step's Taylor terms where the orbit
+        # did not keep them (the pairs are in step order: a step's first pair pays)
+        ptr = self._csr[0]
+        cost = (ptr[sig + 1] - ptr[sig]) * mode.terms
+        if kept is None or steps[-1] >= kept.shape[0]:
+            cost[np.flatnonzero(np.diff(steps, prepend=-1))] += mode.terms * Z.shape[1]
+        cum = np.cumsum(cost)
+        cuts = np.searchsorted(cum, np.arange(SETTLE_FLOATS, cum[-1], SETTLE_FLOATS))
+        bounds = np.unique(np.concatenate([[0], cuts, [sig.size]]))
         best = self.best[side][w]
-        for c0 in range(0, uniq.size, per):
-            part = uniq[c0:c0 + per]
-            V = mode.taylor(Z[part])                       # (terms, steps, states)
-            T, m = V.shape[0], part.size
-            P = np.asarray(Orows @ V.reshape(T * m, -1).T).reshape(rows.size, T, m)
-            pick = (inv >= c0) & (inv < c0 + m)
-            k, q = at_row[pick], inv[pick] - c0
-            C = side * P[k, :, q]                         # (pairs, terms), lowest power first
-            t0, t1 = times[part[q]], times[part[q] + 1]
+        pending = self._pending[side][w]
+        for lo_p, hi_p in zip(bounds[:-1], bounds[1:]):
+            who, at = sig[lo_p:hi_p], steps[lo_p:hi_p]
+            C = trim_terms(side * self._coefficients(mode, Z, kept, who, at))   # (pairs, terms), lowest first
+            t0, t1 = times[at], times[at + 1]
             a = np.maximum(0.0, (start - t0) / L)
             b = (t1 - t0) / L
-            who = sig[pick]
-            # first the polynomials at COARSE points (values of the signal: they raise the
-            # best), then only the steps whose coarse best plus the most p can rise between
-            # them, max|p''| d^2 / 8 with |p''| <= sum j (j - 1) |c_j| on |s| <= 1, still reach
-            # it are polished (the midpoint's bound is loose where a step turns 2 rad)
+            # the polynomials at COARSE points (values: they raise the best); the steps whose
+            # coarse best plus max|p''| d^2 / 8 (|p''| <= sum j (j - 1) |c_j|) reach it wait
             s_c = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, COARSE)[None, :]
-            y = _horner_rows(C, s_c)
+            y = horner_rows(C, s_c)
             top = y.max(axis=1)
             top[~(b > a)] = -np.inf
             np.maximum.at(best, who, top)
             j = np.arange(C.shape[1])
             curve = np.abs(C) @ (j * (j - 1.0))
             rise = curve * ((b - a) / (COARSE - 1)) ** 2 / 8
-            # a step whose rise is below rounding of its values (a strand at its pretension, a
-            # roller at speed) is known to rounding at its coarse points: not polished
+            # a rise below rounding of its values: known to rounding at its coarse points
             go = np.flatnonzero((b > a) & (top + rise >= best[who]) & (rise > FLAT * np.abs(top)))
             if go.size:
-                self._polish_steps(best, who[go], C[go], s_c[go], y[go], rise[go], a[go], b[go])
+                pending.add(who[go], top[go] + rise[go], C[go], y[go], rise[go], a[go], b[go])
+        if pending.full():
+            pending.prune(best)
+            if pending.crowded():          # still half full of steps that may hold the extreme
+                pending.polish(best)
 
-    @staticmethod
-    def _polish_steps(best, who, C, s_c, y, rise, a, b) -> None:
-        """Raise ``best`` by each step polynomial's maximum: Newton in the two coarse cells
-        around its best coarse point; where another cell's coarse values plus ``rise`` still
-        reach what that found, the full search (:func:`polish_polynomials`) on the step."""
-        r = np.arange(C.shape[0])
-        i = np.argmax(y, axis=1)
-        lo, hi = s_c[r, np.maximum(i - 1, 0)], s_c[r, np.minimum(i + 1, COARSE - 1)]
-        found = np.maximum(y[r, i], _newton_max(C, s_c[r, i], lo, hi, 2 * NEWTON))
-        cell = np.maximum(y[:, :-1], y[:, 1:]) + rise[:, None]
-        k = np.arange(COARSE - 1)[None, :]
-        cell[(k == i[:, None] - 1) | (k == i[:, None])] = -np.inf
-        again = np.flatnonzero(cell.max(axis=1) >= found)
-        if again.size:
-            found[again] = np.maximum(found[again], polish_polynomials(C[again], a[again], b[again]))
-        np.maximum.at(best, who, found)
+    def _coefficients(self, mode, Z: np.ndarray, kept, who: np.ndarray, at: np.ndarray) -> np.ndarray:
+        """(pairs, terms): signal ``who[p]``'s Taylor coefficients on the step from Z[at[p]]:
+        its row's nonzeros times the step's Taylor terms, summed in the row's order (as the
+        sparse product ``O V`` sums them). The terms from the orbit's (``kept``) where it has
+        the step, else formed here for the steps asked for."""
+        T = mode.terms
+        if kept is not None and at.max() < kept.shape[0]:
+            V, local = kept, at
+        else:
+            uniq, local = np.unique(at, return_inverse=True)
+            V = mode.taylor(Z[uniq]).transpose(1, 0, 2)       # (steps, terms, states)
+        ptr, idx, data = self._csr
+        count = ptr[who + 1] - ptr[who]
+        ends = np.cumsum(count)
+        first = ends - count
+        nz = np.arange(int(ends[-1]) if ends.size else 0) - np.repeat(first - ptr[who], count)
+        G = V[np.repeat(local, count), :, idx[nz]]                 # (nonzeros, terms)
+        G *= data[nz][:, None]
+        C = np.zeros((who.size, T))
+        some = count > 0
+        C[some] = np.add.reduceat(G, first[some], axis=0) if G.shape[0] else 0.0
+        return C
 
     def _merge(self, side: int, w: int, u: np.ndarray, s0: int, Z, times, piece: int, key: int,
                best: np.ndarray) -> None:
@@ -430,6 +479,9 @@ class Watch:
         mode's ladder one by one (:meth:`_polish`). Where candidates were let go whose bound
         lies above the extreme found, :attr:`uncertain` holds by how much (else 0)."""
         run = self.run
+        for w in range(len(self.windows)):
+            for side in (1, -1):
+                self._pending[side][w].polish(self.best[side][w])
         ends = run.piece_ends + [run.t_end]
         self._terms: dict[tuple, np.ndarray] = {}
         slots, values = [], []                      # (window, side, signal), the value so far
@@ -545,58 +597,3 @@ class Watch:
         def g(s):
             return side * (mode.at(np.repeat(z[None], s.size, axis=0), s * mode.h) @ row)
         return g, lambda s: float(g(np.array([s]))[0])
-
-
-NEWTON = 12         # safeguarded Newton steps of the vectorised polish
-
-
-def _horner_rows(C: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """Row r of C (coefficients, lowest first) at the points x[r] (x: (rows,) or (rows, points))."""
-    c = C if x.ndim == 1 else C[:, None, :]
-    y = np.zeros(x.shape)
-    for j in range(C.shape[1] - 1, -1, -1):
-        y *= x
-        y += c[..., j]
-    return y
-
-
-def polish_polynomials(C: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The largest value of each polynomial ``sum_j C[r, j] s^j`` on [a[r], b[r]] (|s| <= 1),
-    all at once: a grid of GRID points, then safeguarded Newton steps on ``p' = 0`` inside
-    the grid cells either side of the grid's best point (a bisection step wherever Newton
-    would leave the bracket or p is not concave there). Never below the grid's best value;
-    -inf where the interval is empty. Newton converges quadratically from a cell of
-    (b - a) / 256: the value is the polynomial's maximum to rounding, as a bounded Brent
-    search to 1e-9 of the interval gives it (``tests/test_watch.py``)."""
-    P, T = C.shape
-    out = np.full(P, -np.inf)
-    ok = b > a
-    if not ok.any():
-        return out
-    C, a, b = C[ok], a[ok], b[ok]
-    rows = np.arange(C.shape[0])
-    s = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, GRID)[None, :]
-    y = _horner_rows(C, s)
-    i = np.argmax(y, axis=1)
-    best = y[rows, i]
-    lo, hi, x = s[rows, np.maximum(i - 1, 0)], s[rows, np.minimum(i + 1, GRID - 1)], s[rows, i]
-    out[ok] = np.maximum(best, _newton_max(C, x, lo, hi, NEWTON))
-    return out
-
-
-def _newton_max(C: np.ndarray, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, steps: int) -> np.ndarray:
-    """The largest value of each polynomial row of C on its bracket [lo, hi] around x, by
-    safeguarded Newton steps on ``p' = 0`` (a bisection step wherever Newton would leave the
-    bracket or p is not concave there): the best of p at the last x and the bracket's ends."""
-    T = C.shape[1]
-    D1 = C[:, 1:] * np.arange(1, T)
-    D2 = D1[:, 1:] * np.arange(1, T - 1)
-    for _ in range(steps):
-        d1, d2 = _horner_rows(D1, x), _horner_rows(D2, x)
-        lo = np.where(d1 > 0, x, lo)                 # the maximum lies where p' changes sign
-        hi = np.where(d1 < 0, x, hi)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = x - d1 / d2
-        good = (d2 < 0) & (step > lo) & (step < hi)
-        x = np.where(good, step, 0.5 * (lo + hi))
-    return np.maximum(_horner_rows(C, x), np.maximum(_horner_rows(C, lo), _horner_rows(C, hi)))

@@ -245,3 +245,25 @@ def test_a_stack_is_balanced_as_each_matrix_alone():
     assert_array_equal(got[:-2], np.stack([linalg._balance_one(m.copy()) for m in mats[:-2]]))
     assert_array_equal(got, np.stack([_dgebal(m) for m in mats]))
     assert_array_equal(got[-2], linalg.balance(mats[-2]))          # the extreme one, alone
+
+
+def test_expm_with_the_public_solve_where_numpys_private_gufunc_is_gone(monkeypatch):
+    # linalg uses numpy's private solve gufunc when it is where it was and solves as the public
+    # np.linalg.solve; a numpy that moves or changes it gets the public function, same result
+    from beltcalc.sim import linalg
+
+    rng = np.random.default_rng(7)
+    A = _random(rng, 12, 30.0)
+    fast = expm(A)
+    monkeypatch.setattr(linalg, "_solve", np.linalg.solve)
+    assert_allclose(expm(A), fast, rtol=1e-13, atol=1e-13 * float(np.abs(fast).max()))
+
+
+def test_private_solve_is_refused_when_it_answers_otherwise(monkeypatch):
+    # a gufunc that no longer solves (here: returns its right-hand side) is not used
+    import numpy.linalg._umath_linalg as um
+
+    from beltcalc.sim import linalg
+
+    monkeypatch.setattr(um, "solve", lambda a, b: b, raising=False)
+    assert linalg._private_solve() is np.linalg.solve

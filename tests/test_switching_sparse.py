@@ -238,3 +238,16 @@ def test_rigid_integrals_sample_by_sample_equal_the_sum_over_rebases():
     dk = np.array([d for _, d in run.rebases])
     want = dk.T @ np.maximum(t[None, :] - tk[:, None], 0.0)
     assert_allclose(run.rigid_integrals(), want, rtol=1e-13, atol=1e-13 * np.abs(want).max())
+
+
+def test_scipys_private_kernels_are_checked_before_use():
+    # scipy's csr_matvec(s) are used only if they accumulate what the public product gives:
+    # a kernel that ignores its output, or takes other arguments, is refused
+    from scipy.sparse._sparsetools import csr_matvec, csr_matvecs
+
+    assert switching._kernels_agree(csr_matvec, csr_matvecs) is True
+    assert switching._kernels_agree(lambda *a: None, csr_matvecs) is False
+
+    def other_signature(*args):
+        raise TypeError("csr_matvec() takes 6 arguments")
+    assert switching._kernels_agree(csr_matvec, other_signature) is False

@@ -69,10 +69,28 @@ def _sparse_kernels():
     if _kernels is ...:
         try:
             from scipy.sparse._sparsetools import csr_matvec, csr_matvecs
-            _kernels = (csr_matvec, csr_matvecs)
+            _kernels = (csr_matvec, csr_matvecs) if _kernels_agree(csr_matvec, csr_matvecs) else None
         except ImportError:
             _kernels = None
     return _kernels
+
+
+def _kernels_agree(matvec, matvecs) -> bool:
+    """Whether scipy's private kernels still take the arguments they took when this was
+    written (scipy 1.11-1.16) and accumulate what the public product gives, on a 3 x 2
+    matrix with an empty row: a private signature may change in any release, and a kernel
+    that reads its arguments otherwise is not used (the public ``@`` is)."""
+    from scipy.sparse import csr_matrix
+
+    A = csr_matrix(np.array([[1.0, 0.0], [0.0, 0.0], [2.0, -3.0]]))
+    x, X = np.array([0.5, 2.0]), np.array([[0.5, 1.0], [2.0, -1.0]])
+    y, Y = np.ones(3), np.ones((3, 2))
+    try:
+        matvec(*_csr(A), x, y)
+        matvecs(*A.shape, 2, A.indptr, A.indices, A.data, X.ravel(), Y.ravel())
+    except (TypeError, ValueError):
+        return False
+    return bool(np.array_equal(y, 1.0 + A @ x) and np.array_equal(Y, 1.0 + A @ X))
 
 
 def _csr(A) -> tuple:

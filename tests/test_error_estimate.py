@@ -144,3 +144,39 @@ def test_estimate_above_the_tolerance_accepted():
     assert r.extra.get("error_accepted") is True
     assert r.warnings and r.warnings[0].startswith("accepted with a large error: error estimate")
     assert r.error_relative >= 1e-15
+
+
+def test_a_watched_second_computation_beside_the_run_gives_the_same_estimate(monkeypatch):
+    # from CONCURRENT_SIZE states the estimate's second watched run is forked beside the first:
+    # the same computation in another process, so every error and figure is the same, bit for bit
+    from beltcalc.sim import core
+    from beltcalc.sim.scenes import roller_table
+
+    values = SCENES["roller-table"].values(t_end=1.0, samples=201.0, load_start=0.3, window=0.6)
+    monkeypatch.setattr(core, "CONCURRENT_SIZE", 10**9)          # in this process
+    here = roller_table.run(values, SolverConfig()).result
+    monkeypatch.setattr(core, "CONCURRENT_SIZE", 0)              # forked where it can be
+    forked = roller_table.run(values, SolverConfig()).result
+    assert here.errors and forked.errors == here.errors
+    assert forked.error_signal == here.error_signal
+    assert forked.error_estimate == pytest.approx(here.error_estimate, rel=0, abs=0)
+
+
+def test_the_forked_computation_falls_back_and_can_be_stopped():
+    import time
+
+    from beltcalc.sim.core import _beside
+
+    assert _beside(lambda: {"value": 42})() == {"value": 42}
+    calls = []
+
+    def fails():
+        calls.append(1)          # in the child (not seen here), then here again
+        raise ValueError("the second computation failed")
+    with pytest.raises(ValueError, match="second computation failed"):
+        _beside(fails)()
+    assert calls == [1]
+    slow = _beside(lambda: time.sleep(60))
+    start = time.monotonic()
+    getattr(slow, "cancel", lambda: None)()
+    assert time.monotonic() - start == pytest.approx(0.0, abs=10.0)

@@ -48,8 +48,92 @@ MAX_PHASE = 1e-3 / EPS  # rad: an input's phase w t_end beyond which a float hol
 
 FALLBACK_SECONDS = 30.0     # computing time auto's Radau fallback may take
 RADAU_FALLBACK_WORK = 2e6   # strand events x states^2 above which auto's Radau fallback is not tried
+REFINE_WORK = 1e10          # strand events x states^2 above which auto does not refine the exact run (4x its
+                            # cost: 200 rollers, 14,300 events x 1,605 states, would take 10 minutes more)
 ESTIMATE_STEP = 1.5         # the error estimate's piecewise second run: bottom steps 1.5 times as long
                             # (switching.terms_for: up to 62 Taylor terms): another partition, fewer steps
+
+
+CONCURRENT_SIZE = 300       # states from which a watched run's second computation runs beside it (the sparse path)
+
+
+class Figures:
+    """What the error estimate reads of a watched second computation: its node speeds and the
+    summaries of its watched figures (a forked process sends these, not the whole run)."""
+
+    def __init__(self, result: SimResult, n: int):
+        self.speeds = result.states[n:2 * n]
+        self.extremes = dict.fromkeys(result.extremes)
+        self.summaries = {key: result.summary(*key) for key in result.extremes}
+
+    def summary(self, name: str, start: float):
+        return self.summaries[(name, start)]
+
+
+def _second(network: Network, t, x0, cfg, watch) -> Figures:
+    """The watched second computation of :func:`estimate_error`: the exact method with another
+    internal step (:data:`ESTIMATE_STEP`)."""
+    return Figures(_run(network, t, x0, cfg, "exact", "", scale=ESTIMATE_STEP, watch=watch), network.n)
+
+
+def _beside(work):
+    """``work()`` started in a forked process where it can run beside this one: a second CPU
+    this process may use, the main thread of a process that is not itself a worker, and a
+    platform that forks; returns a call that waits for its value (its ``cancel`` stops the
+    child). Where any of these is
+    missing, or the child fails in any way (its exception does not travel), the call computes
+    ``work()`` here: the same computation, the same value, later."""
+    import os
+    import threading
+
+    try:
+        import multiprocessing as mp
+
+        usable = (hasattr(os, "fork") and len(os.sched_getaffinity(0)) >= 2 and mp.parent_process() is None
+                  and threading.current_thread() is threading.main_thread())
+    except (AttributeError, ImportError, OSError):
+        usable = False
+    if not usable:
+        return work
+    ctx = mp.get_context("fork")
+    receive, send = ctx.Pipe(duplex=False)
+
+    def child():
+        try:
+            value = work()
+        except BaseException:           # noqa: BLE001 - the parent computes it again and raises
+            send.send(None)
+            return
+        send.send(value)
+
+    proc = ctx.Process(target=child, daemon=True)
+    proc.start()
+    send.close()
+
+    def wait():
+        try:
+            value = receive.recv()
+        except (EOFError, OSError):
+            value = None
+        finally:
+            receive.close()
+            proc.join()
+        return work() if value is None else value
+
+    def cancel():
+        proc.terminate()
+        proc.join()
+        receive.close()
+    wait.cancel = cancel
+    return wait
+
+
+def _round_up(x: float) -> str:
+    """``x`` rounded up to one significant digit, as text (2.1e-05 -> '3e-05')."""
+    import math
+
+    e = math.floor(math.log10(x))
+    return f"{math.ceil(x / 10.0 ** e - 1e-9) * 10.0 ** e:.0e}".replace("e-0", "e-").replace("e+0", "e+")
 
 
 def _initial(network: Network, x0: np.ndarray | None) -> np.ndarray:
@@ -139,12 +223,25 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
     method, reason = choose_method(network, cfg.method)
     x0 = _initial(network, x0)
     t = np.linspace(0.0, t_end, samples)
-    result = _run(network, t, x0, cfg, method, reason, watch=watch)
+    second = None
+    if cfg.estimate_error and method == "exact" and watch:
+        # the estimate's second watched computation, beside the run where the run is long (sparse)
+        second = (_beside if network.size >= CONCURRENT_SIZE else lambda work: work)(
+            lambda: _second(network, t, x0, cfg, watch))
+    try:
+        result = _run(network, t, x0, cfg, method, reason, watch=watch)
+    except BaseException:
+        getattr(second, "cancel", lambda: None)()      # a forked second computation is not waited for
+        raise
     if not cfg.estimate_error:
         return result
-    estimate_error(result, network, x0, cfg, watch=watch)
+    estimate_error(result, network, x0, cfg, watch=watch, second=second)
     tried = [f"{method} ({result.error_relative:.1g})"]
-    if result.error_relative > cfg.error_tol and cfg.method == "auto" and method == "exact":
+    work = int(result.extra.get("located", 0)) * network.size ** 2
+    if result.error_relative > cfg.error_tol and cfg.method == "auto" and method == "exact" and work > REFINE_WORK:
+        events = f"{int(result.extra.get('located', 0))} strand events x {network.size} states"
+        tried += [f"not refined ({events}: 4x this run)", f"not radau ({events}: too long)"]
+    elif result.error_relative > cfg.error_tol and cfg.method == "auto" and method == "exact":
         # refine: a quarter of the internal step, checked against the first run
         fine = _run(network, t, x0, cfg, "exact", reason + "; refined to a quarter of the internal step",
                     scale=0.25, watch=watch)
@@ -181,9 +278,15 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
                    f"{result.error_scale:.4g} {result.error_unit}, above the tolerance {cfg.error_tol:g}; "
                    f"tried {', '.join(tried)}")
         if not cfg.accept_error:
-            tighter = "" if result.method == "exact" else f"a tighter `rtol` (here {cfg.rtol:g}), "
-            raise SimulationError(message + f"; try {tighter}another `method`, a looser `error_tol`, or "
-                                  "`accept_error` to print it anyway", param="error_tol")
+            looser = f"a looser `error_tol` (at least {_round_up(result.error_relative)})"
+            if result.method == "exact" and any(x.startswith("not radau") for x in tried):
+                # no other method finishes: two exact computations (each to rounding) disagree this much
+                hint = (f"no other method finishes here, and two exact computations (each to rounding, on its "
+                        f"own internal steps) differ by this much; try {looser}")
+            else:
+                tighter = "" if result.method == "exact" else f"a tighter `rtol` (here {cfg.rtol:g}), "
+                hint = f"try {tighter}another `method`, {looser}"
+            raise SimulationError(message + f"; {hint}, or `accept_error` to print it anyway", param="error_tol")
         result.extra["error_accepted"] = True
         result.warnings.append("accepted with a large error: " + message)
     return result
@@ -250,7 +353,8 @@ def conditioning(network: Network, t_end: float) -> float:
 
 
 def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: SolverConfig,
-                   reference: tuple[SimResult, str] | None = None, watch: tuple | None = None) -> None:
+                   reference: tuple[SimResult, str] | None = None, watch: tuple | None = None,
+                   second=None) -> None:
     """Fill the result's error estimate: per speed signal, the largest difference to a second
     computation that shares neither rounding nor partition (exact: another internal step and
     another scaling of A h, at a subset of the samples where the run is one linear piece
@@ -263,6 +367,8 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
     difference of what the result reports (each watched signal's mean, least and largest
     value over each window), plus the conditioning floor and what the watch could not rule
     out (:attr:`beltcalc.sim.watch.Watch.uncertain`), each relative to its signal's scale.
+    ``second``: a call that gives that second computation's :class:`Figures` (:func:`simulate`
+    starts it beside the run, :func:`_beside`); default computed here.
     The trajectories' difference is kept beside it (``extra["trajectory_error"]``): near-grazing
     strand switches may shift a trajectory's phase between two partitions while its means and
     extremes agree (100 rollers)."""
@@ -276,8 +382,8 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
         ref = other.states[n:2 * n]
         full = None if method == "exact" else other.states
     elif method == "exact" and watch and result.extremes:
-        other = _run(network, t, x0, cfg, "exact", "", scale=ESTIMATE_STEP, watch=watch)
-        ref = other.states[n:2 * n]
+        other = second() if second is not None else _second(network, t, x0, cfg, watch)
+        ref = other.speeds
         label = "exact with another internal step and scaling of A h"
     elif method == "exact" and result.extra.get("one_piece"):
         F, balancing = one_piece(network)
@@ -359,7 +465,7 @@ def _elastic_errors(result: SimResult, network: Network, full: np.ndarray, floor
     return worst
 
 
-def _figure_errors(result: SimResult, other: SimResult, floor: float, reported: dict | None = None) -> None:
+def _figure_errors(result: SimResult, other: SimResult | Figures, floor: float, reported: dict | None = None) -> None:
     """Judge a watched run by the figures it reports: per watched signal and window, the
     differences of mean, least and largest value to the second computation ``other``, plus
     the conditioning floor and the watch's uncertainty, relative to the largest |value| of

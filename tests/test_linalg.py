@@ -1,4 +1,4 @@
-"""beltcalc.sim.linalg.expm against scipy.linalg.expm and exact answers.
+"""beltcalc.numerics.expm.expm against scipy.linalg.expm and exact answers.
 
 The tolerance is relative in the 1-norm, 1e-13 max(1, ||A||_1): two backward-stable
 evaluations differ by about cond_exp(A) u, and cond_exp(A) >= ||A|| (Higham, *Functions of
@@ -19,7 +19,7 @@ from hypothesis.extra.numpy import arrays
 from numpy.testing import assert_allclose, assert_array_equal
 from scipy.linalg._matfuncs_expm import pick_pade_structure
 
-from beltcalc.sim.linalg import _pick, expm
+from beltcalc.numerics.expm import _pick, expm
 
 NORMS = (1e-8, 1e-5, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0, 2.0, 3.0, 10.0, 100.0, 1e3)
 
@@ -153,7 +153,7 @@ def test_refuses_non_square():
 
 
 def test_import_does_not_load_scipy():
-    code = "import sys, beltcalc.sim.linalg; print(any(m.split('.')[0] == 'scipy' for m in sys.modules))"
+    code = "import sys, beltcalc.numerics.expm; print(any(m.split('.')[0] == 'scipy' for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 
@@ -190,7 +190,7 @@ def _dgebal(F: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("name", ["sewing", "roller-table", "linear-axis", "conveyor"])
 def test_balance_equals_lapack_on_the_project_matrices(name):
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.expm import balance
 
     F = _project_matrices()[name]
     assert_array_equal(balance(F), _dgebal(F))
@@ -198,7 +198,7 @@ def test_balance_equals_lapack_on_the_project_matrices(name):
 
 @pytest.mark.parametrize("seed", range(40))
 def test_balance_equals_lapack_on_badly_scaled_matrices(seed):
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.expm import balance
 
     rng = np.random.default_rng(seed)
     n = int(rng.integers(2, 30))
@@ -212,7 +212,7 @@ def test_balance_equals_lapack_on_badly_scaled_matrices(seed):
 
 
 def test_balance_takes_stacks_and_refuses_non_finite():
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.expm import balance
 
     mats = list(_project_matrices().values())[:1] * 2
     rng = np.random.default_rng(7)
@@ -228,7 +228,7 @@ def test_balance_takes_stacks_and_refuses_non_finite():
 def test_a_stack_is_balanced_as_each_matrix_alone():
     # from STACK_FROM matrices on, every matrix's row i at once (closed-form doubling loops):
     # the same scales as the one-matrix loop and as LAPACK, on mixed, sparse and extreme ones
-    from beltcalc.sim import linalg
+    from beltcalc.numerics import expm as linalg
 
     rng = np.random.default_rng(3)
     mats = []
@@ -250,7 +250,7 @@ def test_a_stack_is_balanced_as_each_matrix_alone():
 def test_expm_with_the_public_solve_where_numpys_private_gufunc_is_gone(monkeypatch):
     # linalg uses numpy's private solve gufunc when it is where it was and solves as the public
     # np.linalg.solve; a numpy that moves or changes it gets the public function, same result
-    from beltcalc.sim import linalg
+    from beltcalc.numerics import expm as linalg
 
     rng = np.random.default_rng(7)
     A = _random(rng, 12, 30.0)
@@ -263,7 +263,7 @@ def test_private_solve_is_refused_when_it_answers_otherwise(monkeypatch):
     # a gufunc that no longer solves (here: returns its right-hand side) is not used
     import numpy.linalg._umath_linalg as um
 
-    from beltcalc.sim import linalg
+    from beltcalc.numerics import expm as linalg
 
     monkeypatch.setattr(um, "solve", lambda a, b: b, raising=False)
     assert linalg._private_solve() is np.linalg.solve

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from beltcalc.numerics.scalar import brentq, horner     # brentq: scipy's, bit for bit, without scipy.optimize
+from beltcalc.sim.scalar import brentq, horner     # brentq: scipy's, bit for bit, without scipy.optimize
 
 EPS = np.finfo(float).eps
 

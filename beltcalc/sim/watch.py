@@ -32,10 +32,10 @@ import math
 
 import numpy as np
 
-from beltcalc.numerics.expm import expm
+from beltcalc.sim.linalg import expm
 from beltcalc.sim.polish import COARSE, GRID, PendingSteps, horner_rows, polish_polynomials, trim_terms
 from beltcalc.sim.propagate import orbit
-from beltcalc.numerics.scalar import bounded_minimum
+from beltcalc.sim.scalar import bounded_minimum
 from beltcalc.sim.switching import SPARSE_SIZE
 
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...

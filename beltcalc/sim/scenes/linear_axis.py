@@ -327,7 +327,7 @@ def _polish(F: np.ndarray, row: np.ndarray, z0: np.ndarray, span: float, levels:
     exact values, then again on the two intervals around it, ``levels`` times (the interval
     shrinks 32-fold each time: after 5 levels from 1/8 of a period the top is off by
     (2 pi 1e-8)^2 / 2, below rounding)."""
-    from beltcalc.numerics.expm import expm
+    from beltcalc.sim.linalg import expm
 
     t0, z, width = 0.0, z0, span
     for level in range(levels):
@@ -375,7 +375,7 @@ def exact_signals(net: Network, rows: dict, t_end: float, cuts=(), rms_end: floa
     miss by more than their (decayed) size. Van Loan's block exponential for the integral
     is not used: with the chain model's fast over-damped modes e^{-F^T h} overflows.
     """
-    from beltcalc.numerics.expm import expm
+    from beltcalc.sim.linalg import expm
 
     if net.strands:
         raise InputError("exact signal extremes need a network without strands", param="network")

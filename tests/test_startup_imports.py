@@ -56,7 +56,7 @@ def test_a_command_without_a_simulation_imports_no_scipy_module(args, pint_floor
 
 
 def test_simulate_sewing_imports_no_scipy_module(pint_floor):
-    # the exact method's expm and balancing are beltcalc.numerics.expm's (numpy only)
+    # the exact method's expm and balancing are beltcalc.numerics' (numpy only)
     loaded = _loaded("simulate", "sewing")
     assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
     # only its own scene: not the linear axis's sizing and duty cycles, not the roller table
@@ -67,7 +67,7 @@ def test_simulate_sewing_imports_no_scipy_module(pint_floor):
 def test_a_drive_with_strands_imports_no_scipy_module(pint_floor):
     # the switching core locates strand switches and the watch polishes extremes with
     # beltcalc.numerics.scalar's ports of scipy's brentq and bounded minimize_scalar; expm and
-    # balancing are beltcalc.numerics.expm's
+    # balancing are beltcalc.numerics'
     loaded = _loaded("simulate", "drive", "conveyor")
     assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
 

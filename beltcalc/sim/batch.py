@@ -46,8 +46,7 @@ References:
     matrix, twenty-five years later", SIAM Review 45 (2003) 3-49: the augmented system for
     polynomial and sinusoidal inputs.
 [AH09] A. H. Al-Mohy and N. J. Higham, "A new scaling and squaring algorithm for the matrix
-    exponential", SIAM J. Matrix Anal. Appl. 31 (2009) 970-989: the ``expm`` of
-    :mod:`beltcalc.numerics.expm`.
+    exponential", SIAM J. Matrix Anal. Appl. 31 (2009) 970-989: :func:`beltcalc.numerics.expm.expm`.
 """
 
 from __future__ import annotations
@@ -57,7 +56,7 @@ from typing import Sequence
 
 import numpy as np
 
-from beltcalc.numerics.expm import balance
+from beltcalc.numerics.balance import balance
 from beltcalc.sim.propagate import augmented_matrix, balanced_step, block_length, matrix_orbit, orbit, reference_rows
 
 PASS_BYTES = 16 * 2 ** 20   # samples held by one pass of the batch (runs x samples x signals x 8 bytes)

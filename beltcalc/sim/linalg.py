@@ -5,6 +5,7 @@ This module only re-exports them, so that code that still imports
 ``beltcalc.sim.linalg`` gets the same functions.
 """
 
-from beltcalc.numerics.expm import balance, expm
+from beltcalc.numerics.balance import balance
+from beltcalc.numerics.expm import expm
 
 __all__ = ["balance", "expm"]

@@ -225,7 +225,7 @@ NOTES = """## Notes
 - What a command pays beyond the floor: click and rich (the table), its own modules, the
   catalog files (TOML, units converted once), and its calculation. No default command
   imports a scipy module: the exact method's `expm` and balancing are
-  `beltcalc.numerics.expm` (numpy; `scipy.linalg` had cost about 80 ms after the floor, about
+  `beltcalc.numerics.expm` and `.balance` (numpy; `scipy.linalg` had cost about 80 ms after the floor, about
   40 of them scipy's array-API layer importing numpy's `f2py`, `testing`, `ma`, `random` and
   `polynomial`), strand switches are located and the watch's extremes polished by
   `beltcalc.numerics.scalar`'s ports of scipy's `brentq` and bounded `minimize_scalar`

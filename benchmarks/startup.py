@@ -75,7 +75,7 @@ if sys.argv[1] == "propagation":
     out["exact"] = timed(lambda: core.run_exact(net, t, x0, cfg))
     out["exact_warm"] = min(timed(lambda: core.run_exact(net, t, x0, cfg)) for _ in range(20))
 elif sys.argv[1] == "expm":
-    from beltcalc.sim.linalg import expm
+    from beltcalc.numerics.expm import expm
     F = propagate.augmented_matrix(net) * (t[1] - t[0])
     out["expm"] = timed(lambda: expm(F))
     out["expm_warm"] = min(timed(lambda: expm(F)) for _ in range(20))
@@ -209,7 +209,7 @@ def cold(processes: int) -> list[str]:
              "|---|---|---|---|"]
     for label, kind, key in [("exact propagation (`core._exact`: matrices, balancing, expm, every sample)",
                               "propagation", "exact"),
-                             ("one `expm` (`beltcalc.sim.linalg`) of the 14 x 14 augmented matrix", "expm", "expm"),
+                             ("one `expm` (`beltcalc.numerics.expm`) of the 14 x 14 augmented matrix", "expm", "expm"),
                              ("of which: numpy's first LAPACK call (a 14 x 14 solve)", "solve", "solve"),
                              ("a new 14 x 10,001 array written once (the result's size; warm: memory freed and "
                               "reused; cold: pages the system must map, about 1.5 us each here)", "touch", "touch"),
@@ -225,10 +225,10 @@ NOTES = """## Notes
 - What a command pays beyond the floor: click and rich (the table), its own modules, the
   catalog files (TOML, units converted once), and its calculation. No default command
   imports a scipy module: the exact method's `expm` and balancing are
-  `beltcalc.sim.linalg` (numpy; `scipy.linalg` had cost about 80 ms after the floor, about
+  `beltcalc.numerics.expm` and `.balance` (numpy; `scipy.linalg` had cost about 80 ms after the floor, about
   40 of them scipy's array-API layer importing numpy's `f2py`, `testing`, `ma`, `random` and
   `polynomial`), strand switches are located and the watch's extremes polished by
-  `beltcalc.sim.scalar`'s ports of scipy's `brentq` and bounded `minimize_scalar`
+  `beltcalc.numerics.scalar`'s ports of scipy's `brentq` and bounded `minimize_scalar`
   (`scipy.optimize` had cost about 110 ms), `scipy.sparse` is imported only where the
   switching core's sparse path runs (large strand networks), `scipy.integrate` only for
   scipy's methods.

@@ -34,7 +34,6 @@ _spec.loader.exec_module(eq)
 # hold the old spellings; the lead converts them and empties this list.
 NOT_YET_CONVERTED = frozenset({
     "beltcalc/sim/switching",
-    "beltcalc/sim/linalg",
 })
 
 

@@ -42,7 +42,8 @@ from beltcalc.sim.drivefile import load_drive
 from beltcalc.sim.elements import Coupling, Prescribed
 from beltcalc.sim.network import (Gear, Inertia, Load, Network, Prescribed as Pres, SpeedLoop, Strand)
 from beltcalc.sim.scenes import SCENES
-from beltcalc.sim.linalg import balance, expm
+from beltcalc.numerics.balance import balance
+from beltcalc.numerics.expm import expm
 from beltcalc.sim import propagate as prop
 
 EPS = float(np.finfo(float).eps)

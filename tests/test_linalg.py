@@ -1,4 +1,5 @@
-"""beltcalc.sim.linalg.expm against scipy.linalg.expm and exact answers.
+"""beltcalc.numerics.expm.expm against scipy.linalg.expm and exact answers, and
+beltcalc.numerics.balance.balance against LAPACK's dgebal.
 
 The tolerance is relative in the 1-norm, 1e-13 max(1, ||A||_1): two backward-stable
 evaluations differ by about cond_exp(A) u, and cond_exp(A) >= ||A|| (Higham, *Functions of
@@ -19,7 +20,8 @@ from hypothesis.extra.numpy import arrays
 from numpy.testing import assert_allclose, assert_array_equal
 from scipy.linalg._matfuncs_expm import pick_pade_structure
 
-from beltcalc.sim.linalg import _pick, expm
+from beltcalc.numerics.expm import expm
+from beltcalc.numerics.expm_degree import degree_and_scaling
 
 NORMS = (1e-8, 1e-5, 1e-3, 1e-2, 0.05, 0.2, 0.5, 1.0, 2.0, 3.0, 10.0, 100.0, 1e3)
 
@@ -39,19 +41,6 @@ def _random(rng, n: int, norm: float) -> np.ndarray:
     return A * (norm / np.abs(A).sum(axis=0).max())
 
 
-def _project_matrices() -> dict[str, np.ndarray]:
-    from beltcalc.sim.propagate import augmented_matrix
-    from beltcalc.sim.scenes import SCENES
-    from beltcalc.sim.scenes.drive import drive_scene
-    out = {}
-    for name in ("sewing", "roller-table"):
-        scene = SCENES[name]
-        out[name] = augmented_matrix(scene.build(dict(scene.values())))
-    scene = drive_scene("conveyor")
-    out["conveyor"] = augmented_matrix(scene.build(scene.values()))
-    return out
-
-
 def test_random_sizes_and_norms_match_scipy_and_hit_every_degree():
     rng = np.random.default_rng(20261123)
     seen = set()
@@ -66,7 +55,7 @@ def test_random_sizes_and_norms_match_scipy_and_hit_every_degree():
                 work = np.zeros((5, n, n))
                 work[0] = A
                 m_ref, s_ref = pick_pade_structure(work)
-                m, s, _ = _pick(A[None], np.empty((1, 5, n, n)))
+                m, s, _ = degree_and_scaling(A[None], np.empty((1, 5, n, n)))
                 assert (int(m[0]), int(s[0])) == (m_ref, s_ref)
                 seen.add(int(m[0]))
     assert seen == {3, 5, 7, 9, 13}
@@ -153,7 +142,7 @@ def test_refuses_non_square():
 
 
 def test_import_does_not_load_scipy():
-    code = "import sys, beltcalc.sim.linalg; print(any(m.split('.')[0] == 'scipy' for m in sys.modules))"
+    code = "import sys, beltcalc.numerics.expm, beltcalc.numerics.balance; print(any(m.split('.')[0] == 'scipy' for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
 
@@ -190,7 +179,7 @@ def _dgebal(F: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("name", ["sewing", "roller-table", "linear-axis", "conveyor"])
 def test_balance_equals_lapack_on_the_project_matrices(name):
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.balance import balance
 
     F = _project_matrices()[name]
     assert_array_equal(balance(F), _dgebal(F))
@@ -198,7 +187,7 @@ def test_balance_equals_lapack_on_the_project_matrices(name):
 
 @pytest.mark.parametrize("seed", range(40))
 def test_balance_equals_lapack_on_badly_scaled_matrices(seed):
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.balance import balance
 
     rng = np.random.default_rng(seed)
     n = int(rng.integers(2, 30))
@@ -212,7 +201,7 @@ def test_balance_equals_lapack_on_badly_scaled_matrices(seed):
 
 
 def test_balance_takes_stacks_and_refuses_non_finite():
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.balance import balance
 
     mats = list(_project_matrices().values())[:1] * 2
     rng = np.random.default_rng(7)
@@ -228,7 +217,7 @@ def test_balance_takes_stacks_and_refuses_non_finite():
 def test_a_stack_is_balanced_as_each_matrix_alone():
     # from STACK_FROM matrices on, every matrix's row i at once (closed-form doubling loops):
     # the same scales as the one-matrix loop and as LAPACK, on mixed, sparse and extreme ones
-    from beltcalc.sim import linalg
+    from beltcalc.numerics import balance as balancing
 
     rng = np.random.default_rng(3)
     mats = []
@@ -240,22 +229,22 @@ def test_a_stack_is_balanced_as_each_matrix_alone():
     mats.append(np.diag([1e-300, 1.0, 1e300, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]) + 1e-200)   # near the guards
     mats.append(np.zeros((9, 9)))
     stack = np.stack(mats)
-    assert stack.shape[0] >= linalg.STACK_FROM
-    got = linalg.balance(stack)
-    assert_array_equal(got[:-2], np.stack([linalg._balance_one(m.copy()) for m in mats[:-2]]))
+    assert stack.shape[0] >= balancing.STACK_FROM
+    got = balancing.balance(stack)
+    assert_array_equal(got[:-2], np.stack([balancing._balance_one(m.copy()) for m in mats[:-2]]))
     assert_array_equal(got, np.stack([_dgebal(m) for m in mats]))
-    assert_array_equal(got[-2], linalg.balance(mats[-2]))          # the extreme one, alone
+    assert_array_equal(got[-2], balancing.balance(mats[-2]))          # the extreme one, alone
 
 
 def test_expm_with_the_public_solve_where_numpys_private_gufunc_is_gone(monkeypatch):
-    # linalg uses numpy's private solve gufunc when it is where it was and solves as the public
+    # expm uses numpy's private solve gufunc when it is where it was and solves as the public
     # np.linalg.solve; a numpy that moves or changes it gets the public function, same result
-    from beltcalc.sim import linalg
+    from beltcalc.numerics import expm as expm_module
 
     rng = np.random.default_rng(7)
     A = _random(rng, 12, 30.0)
     fast = expm(A)
-    monkeypatch.setattr(linalg, "_solve", np.linalg.solve)
+    monkeypatch.setattr(expm_module, "_solve", np.linalg.solve)
     assert_allclose(expm(A), fast, rtol=1e-13, atol=1e-13 * float(np.abs(fast).max()))
 
 
@@ -263,7 +252,7 @@ def test_private_solve_is_refused_when_it_answers_otherwise(monkeypatch):
     # a gufunc that no longer solves (here: returns its right-hand side) is not used
     import numpy.linalg._umath_linalg as um
 
-    from beltcalc.sim import linalg
+    from beltcalc.numerics import expm as expm_module
 
     monkeypatch.setattr(um, "solve", lambda a, b: b, raising=False)
-    assert linalg._private_solve() is np.linalg.solve
+    assert expm_module._private_solve() is np.linalg.solve

@@ -1,4 +1,4 @@
-"""beltcalc.sim.scalar: the ports of scipy's brentq, golden section and bounded search return
+"""beltcalc.numerics.scalar: the ports of scipy's brentq, golden section and bounded search return
 scipy's numbers bit for bit (the frequency response's peaks and Q, and the watched extremes,
 were computed by scipy before)."""
 
@@ -12,7 +12,7 @@ import pytest
 from scipy.optimize import brentq as scipy_brentq
 from scipy.optimize import minimize_scalar
 
-from beltcalc.sim.scalar import bounded_minimum, brentq, golden_minimum, horner
+from beltcalc.numerics.scalar import bounded_minimum, brentq, golden_minimum, horner
 
 
 def _outcome(call):

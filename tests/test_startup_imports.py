@@ -48,7 +48,7 @@ def pint_floor() -> set[str]:
                                   ("simulate", "roller-table", "--help")])
 def test_a_command_without_a_simulation_imports_no_scipy_module(args, pint_floor):
     # the frequency domain included: its rows come from the network, its peaks from
-    # beltcalc.sim.scalar, not from the time-domain core, scipy.linalg or scipy.optimize
+    # beltcalc.numerics.scalar, not from the time-domain core, scipy.linalg or scipy.optimize
     loaded = _loaded(*args)
     assert not _under(loaded, *NEVER) - pint_floor
     assert not _under(loaded, "scipy.linalg", "scipy.optimize", "scipy.sparse", "scipy.special") - pint_floor
@@ -56,7 +56,7 @@ def test_a_command_without_a_simulation_imports_no_scipy_module(args, pint_floor
 
 
 def test_simulate_sewing_imports_no_scipy_module(pint_floor):
-    # the exact method's expm and balancing are beltcalc.sim.linalg's (numpy only)
+    # the exact method's expm and balancing are beltcalc.numerics' (numpy only)
     loaded = _loaded("simulate", "sewing")
     assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
     # only its own scene: not the linear axis's sizing and duty cycles, not the roller table
@@ -66,8 +66,8 @@ def test_simulate_sewing_imports_no_scipy_module(pint_floor):
 
 def test_a_drive_with_strands_imports_no_scipy_module(pint_floor):
     # the switching core locates strand switches and the watch polishes extremes with
-    # beltcalc.sim.scalar's ports of scipy's brentq and bounded minimize_scalar; expm and
-    # balancing are beltcalc.sim.linalg's
+    # beltcalc.numerics.scalar's ports of scipy's brentq and bounded minimize_scalar; expm and
+    # balancing are beltcalc.numerics'
     loaded = _loaded("simulate", "drive", "conveyor")
     assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
 

@@ -10,7 +10,7 @@ speeds, accelerations (``c^T F``), coupling torques, a motor's torque. They are 
 the chunk at once:
 
 - ``F~_r = D_r^{-1} F_r D_r`` balanced (powers of two, exact), ``S_r = expm(F~_r dt)`` by
-  scaling and squaring [AH09] for the whole stack in one call (:func:`beltcalc.sim.linalg.expm`
+  scaling and squaring [AH09] for the whole stack in one call (:func:`beltcalc.numerics.expm.expm`
   takes ``(runs, n, n)``);
 - with ``b = ceil(sqrt(N))`` for ``N`` samples, the rows ``w_{r,i,j} = c~_ri^T S_r^j``
   (``j < b``) by doubling and the block starts ``S_r^{kb} z~_r(0)`` by doubling: then
@@ -46,8 +46,7 @@ References:
     matrix, twenty-five years later", SIAM Review 45 (2003) 3-49: the augmented system for
     polynomial and sinusoidal inputs.
 [AH09] A. H. Al-Mohy and N. J. Higham, "A new scaling and squaring algorithm for the matrix
-    exponential", SIAM J. Matrix Anal. Appl. 31 (2009) 970-989: the ``expm`` of
-    :mod:`beltcalc.sim.linalg`.
+    exponential", SIAM J. Matrix Anal. Appl. 31 (2009) 970-989: :func:`beltcalc.numerics.expm.expm`.
 """
 
 from __future__ import annotations
@@ -57,7 +56,7 @@ from typing import Sequence
 
 import numpy as np
 
-from beltcalc.sim.linalg import balance
+from beltcalc.numerics.balance import balance
 from beltcalc.sim.propagate import augmented_matrix, balanced_step, block_length, matrix_orbit, orbit, reference_rows
 
 PASS_BYTES = 16 * 2 ** 20   # samples held by one pass of the batch (runs x samples x signals x 8 bytes)
@@ -70,7 +69,7 @@ class Propagation:
     r"""The exact solution of a stack of runs ``z_r' = F_r z_r`` at ``samples`` points ``k dt``,
     as :func:`beltcalc.sim.propagate.propagate` computes it for one run, with the same operations
     in the same order (so the same numbers): ``F~ = D^{-1} F D`` balanced, ``S = expm(F~ dt /
-    parts)^parts`` (:func:`beltcalc.sim.linalg.expm` on the whole stack), the powers ``S^j`` (``j <
+    parts)^parts`` (:func:`beltcalc.numerics.expm.expm` on the whole stack), the powers ``S^j`` (``j <
     b = ceil(sqrt(samples))``) and the block starts ``S^{kb} z~(0)`` by doubling; then
     ``z_i(t_{kb+j}) = D_i (S^j)_i . S^{kb} z~(0)``. :meth:`rows` reads any rows over any
     range of blocks, so a run's summary needs only its window and the rows it reports.

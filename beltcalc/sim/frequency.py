@@ -316,7 +316,7 @@ def _input_unit(net, name: str) -> str:
 def _peaks(omega: np.ndarray, mag: np.ndarray, h) -> list[tuple[float, float, float | None]]:
     """Local maxima of |H| on the grid, refined by golden section on ``h``; Q from where |H|
     falls to peak / sqrt(2) on each side (None where it does not inside the grid)."""
-    from beltcalc.sim.scalar import brentq, golden_minimum    # scipy's, bit for bit, without importing scipy.optimize
+    from beltcalc.numerics.scalar import brentq, golden_minimum    # scipy's, bit for bit, without importing scipy.optimize
 
     out = []
     for k in range(1, mag.size - 1):
@@ -433,7 +433,7 @@ def _free_speed(A: np.ndarray) -> bool:
     >>> _free_speed(np.array([[0.0, 1.0], [0.0, 0.0]])), _free_speed(np.array([[0.0, 1.0], [0.0, -2.0]]))
     (True, False)
     """
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.balance import balance
 
     m = A.shape[0]
     if m == 0:
@@ -451,7 +451,7 @@ def mean_states(A: np.ndarray, b0: np.ndarray, scale: np.ndarray | None = None) 
     study's runs): ``(a, ok)``, ``ok[r]`` False where system r does not balance.
 
     Each ``A`` is balanced first (a diagonal similarity D^-1 A D of powers of two,
-    :func:`beltcalc.sim.linalg.balance`), so that the rank decision is not swamped by a
+    :func:`beltcalc.numerics.balance.balance`), so that the rank decision is not swamped by a
     stiffness many decades above the rest (a stiff coupling's k/J of 1e16 beside a motor's
     1e2 would count the motor's modes as null). With the SVD ``A = U S V^T`` (one batched
     call), the null space is the singular values at most ``1e-10 s_max``: right ``N``, left
@@ -460,7 +460,7 @@ def mean_states(A: np.ndarray, b0: np.ndarray, scale: np.ndarray | None = None) 
     ``A a = N beta - b0`` over the other singular values (the pseudo-inverse with the same
     cut-off as the rank decision). Systems of one null dimension are solved together.
     ``scale`` (R, m): the balancing, where the caller has one for the stack."""
-    from beltcalc.sim.linalg import balance
+    from beltcalc.numerics.balance import balance
 
     R, m = b0.shape
     if scale is None:

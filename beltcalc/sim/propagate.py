@@ -28,7 +28,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from beltcalc.sim.linalg import balance, expm
+from beltcalc.numerics.balance import balance
+from beltcalc.numerics.expm import expm
 
 if TYPE_CHECKING:
     from beltcalc.sim.network import Network
@@ -51,7 +52,7 @@ def augmented_matrix(network: Network, taut=None, t_mid: float = 0.0) -> np.ndar
 
 def one_piece(network: Network) -> tuple[np.ndarray, np.ndarray]:
     """(F, scale): the augmented matrix of the network's one linear piece (every strand taut,
-    the first time piece) and its balancing (:func:`beltcalc.sim.linalg.balance`), kept
+    the first time piece) and its balancing (:func:`beltcalc.numerics.balance.balance`), kept
     on the network: a run, its error estimate and its conditioning read them once."""
     hit = network.__dict__.get("_one_piece")
     if hit is None:

@@ -89,6 +89,19 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("AH09", "Numerical methods",
            'A. H. Al-Mohy and N. J. Higham, "A new scaling and squaring algorithm for the matrix '
            'exponential", SIAM J. Matrix Anal. Appl. 31 (2009) 970-989'),
+    Source("Hig05", "Numerical methods",
+           'N. J. Higham, "The scaling and squaring method for the matrix exponential revisited", '
+           'SIAM J. Matrix Anal. Appl. 26 (2005) 1179-1193'),
+    Source("Hig08", "Numerical methods",
+           "N. J. Higham, Functions of Matrices: Theory and Computation, SIAM (2008)"),
+    Source("Osb60", "Numerical methods",
+           'E. E. Osborne, "On pre-conditioning of matrices", J. ACM 7 (1960) 338-345'),
+    Source("PR69", "Numerical methods",
+           'B. N. Parlett, C. Reinsch, "Balancing a matrix for calculation of eigenvalues and eigenvectors", '
+           'Numer. Math. 13 (1969) 293-304'),
+    Source("JLL14", "Numerical methods",
+           'R. James, J. Langou, B. R. Lowery, "On matrix balancing and eigenvector computation", '
+           'arXiv:1401.5766 (2014)'),
     Source("Guy65", "Numerical methods",
            'R. J. Guyan, "Reduction of stiffness and mass matrices", AIAA Journal 3 (1965) 380'),
     Source("CGL79", "Numerical methods",

@@ -1,6 +1,6 @@
 """Window statistics off the exact solution (``simulate(..., watch=...)``): means of linear
 signals from the exact integral of the state, extremes polished on the exact polynomial
-(beltcalc/sim/watch.py). They must not depend on the output samples, and must agree with a
+(beltcalc/sim/watch/). They must not depend on the output samples, and must agree with a
 reference that owes nothing to the exact core (own solve_ivp with events, densely sampled).
 """
 
@@ -122,6 +122,7 @@ from scipy.optimize import brentq
 
 from beltcalc.sim.scenes import SCENES
 from beltcalc.sim.scenes import linear_axis as la
+from beltcalc.sim.watch import pieces
 
 
 def closed_form_torque(model, t_end):
@@ -191,7 +192,7 @@ def axis_model(**changes):
 def exact_torque(model, t_end):
     net = la.build(model)
     cycle = model.profile.cycle_time
-    got = la.exact_signals(net, {"torque": lambda tm: la.drive_torque_row(net, "motor", tm)}, t_end,
+    got = pieces.exact_signals(net, {"torque": lambda tm: pieces.drive_torque_row(net, "motor", tm)}, t_end,
                            cuts=(la.move_time(model),), rms_end=cycle)["torque"]
     return got.peak, got.rms(cycle), got
 
@@ -234,7 +235,7 @@ def test_linear_axis_torque_row_is_the_simulated_drive_torque(drive, belt_model)
     t_end = 1.2 if belt_model == "substitute" else 0.12
     r = simulate(net, t_end, int(round(t_end / 1e-3)) + 1, SolverConfig(method="exact", estimate_error=False))
     z = np.vstack([r.states, net.generators(r.t)])
-    rows = np.array([la.drive_torque_row(net, "motor", t) for t in r.t])
+    rows = np.array([pieces.drive_torque_row(net, "motor", t) for t in r.t])
     got = np.einsum("ij,ji->i", rows, z)
     ref = r["T_drive_motor"]
     assert_allclose(got, ref, rtol=0, atol=1e-9 * np.abs(ref).max())

@@ -65,9 +65,9 @@ def test_simulate_sewing_imports_no_scipy_module(pint_floor):
 
 
 def test_a_drive_with_strands_imports_no_scipy_module(pint_floor):
-    # the switching core locates strand switches and the watch polishes extremes with
-    # beltcalc.numerics.scalar's ports of scipy's brentq and bounded minimize_scalar; expm and
-    # balancing are beltcalc.numerics'
+    # the switching core locates strand switches with beltcalc.numerics.scalar's port of scipy's
+    # brentq and the watch polishes extremes with numpy alone (beltcalc.sim.watch.polish); expm
+    # and balancing are beltcalc.numerics'
     loaded = _loaded("simulate", "drive", "conveyor")
     assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
 

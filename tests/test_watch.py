@@ -1,4 +1,4 @@
-"""The watch's vectorised polish of extremes (beltcalc/sim/watch.py, ``polish_polynomials``):
+"""The watch's vectorised polish of extremes (beltcalc/sim/watch/polish.py, ``polish_polynomials``):
 the largest value of each Taylor polynomial on its interval, checked against scipy's
 bounded Brent search on a dense grid (an independent reference), and its edge cases."""
 
@@ -12,7 +12,7 @@ from numpy.testing import assert_allclose
 from scipy.optimize import minimize_scalar
 
 from beltcalc.sim.switching import TERMS
-from beltcalc.sim.polish import polish_polynomials
+from beltcalc.sim.watch.polish import polish_polynomials
 
 
 def reference_max(c: np.ndarray, a: float, b: float) -> float:
@@ -87,11 +87,11 @@ def test_stiff_mode_extremes_agree_with_a_million_samples(monkeypatch):
     # step (watch.Watch.walks), they agree with 1,000,001 samples of the run to 1e-8 of each
     # signal's scale and are never inside the sampled range beyond the two runs' rounding.
     # Watched at the coarse step points only (WALK_POINTS = 0), around the best of them by the
-    # walk (LADDER_POINTS) or the bounded search on the ladder (both 0), they agree with each
+    # walk (LADDER_POINTS) or the grid search on the ladder (both 0, polish.zoom_max), they agree with each
     # other, and miss by up to 1.3e-5 of a shaft torque's scale where the load's cycles peak
     # alike and the stiff coupling rings within a coarse step (the candidate is the wrong
     # cycle's): measured, so the reason for the bottom-step watch cannot be lost unseen.
-    import beltcalc.sim.watch as watch
+    import beltcalc.sim.watch.blocks as watch
     from beltcalc.sim.core import SolverConfig, simulate
 
     net, drive, names = stiff_drive()
@@ -128,7 +128,7 @@ def test_polish_steps_by_cells_matches_the_search_on_the_whole_step():
     # a sparse run's candidate steps: Newton around the best of COARSE points, then the full
     # search only in the cells whose coarse values plus the rise bound still reach what it
     # found; the same maximum as the search on the whole step (the reference above)
-    from beltcalc.sim.polish import COARSE, polish_steps
+    from beltcalc.sim.watch.polish import COARSE, polish_steps
 
     rng = np.random.default_rng(11)
     C = taylor_like(rng, 80)
@@ -148,7 +148,7 @@ def test_polish_steps_by_cells_matches_the_search_on_the_whole_step():
 def test_pending_steps_keep_only_what_may_hold_the_extreme():
     # the store of a sparse run's candidate steps: rows whose bound falls below their signal's
     # best are dropped, the others kept with their coefficients (zero-padded to the widest)
-    from beltcalc.sim.polish import COARSE, PendingSteps
+    from beltcalc.sim.watch.polish import COARSE, PendingSteps
 
     store = PendingSteps()
     rng = np.random.default_rng(2)

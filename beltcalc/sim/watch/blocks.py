@@ -20,7 +20,7 @@ the best value seen is a candidate. The result does not depend on the output sam
   pattern); a step on which a signal is monotone (its end slopes and the curvature bound) is
   no candidate. Each candidate step's exact Taylor polynomial (the orbit's own terms) is read
   at COARSE points at once, and waits for its polish while it may still hold the extreme
-  (:meth:`Watch._settle`, :mod:`beltcalc.sim.polish`): nothing is let go.
+  (:meth:`Watch._settle`, :mod:`beltcalc.sim.watch.polish`): nothing is let go.
 
 Signals are rows over the state ``z = [x, g]``: a state, a coupling torque, or a strand
 force (its row while taut, zero while slack).
@@ -33,9 +33,9 @@ import math
 import numpy as np
 
 from beltcalc.sim.linalg import expm
-from beltcalc.sim.polish import COARSE, GRID, PendingSteps, horner_rows, polish_polynomials, trim_terms
+from beltcalc.sim.watch.polish import (COARSE, GRID, PendingSteps, horner_rows, polish_polynomials, trim_terms,
+                                       zoom_max)
 from beltcalc.sim.propagate import orbit
-from beltcalc.sim.scalar import bounded_minimum
 from beltcalc.sim.switching import SPARSE_SIZE
 
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
@@ -44,7 +44,8 @@ KEPT_MODES = 8         # modes whose signal rows (half step, second derivative) 
 CURVE_SAFETY = 2.0     # the largest |s''| seen on a step and its neighbours, times this, bounds it there
 FLAT = 1e-14          # ... and polished only where they may rise by more than this, relative
 SETTLE_FLOATS = 4e6    # polynomial coefficients a sparse mode's candidate steps form at once
-LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many
+LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many ...
+LADDER_ZOOM = 4        # ... else grids of GRID points searched on its ladder (the last 2e-9 of the step apart)
 WALK_POINTS = 2e6      # a stiff mode is watched at every bottom step where the run has at most this many ...
 WALK_BYTES = 32e6      # ... and its 2^K powers of expm(F~ L) take at most this much
 WALK_CHUNK = 2e6       # floats of bottom-step points formed at once
@@ -312,7 +313,7 @@ class Watch:
         exact Taylor polynomial from the step's first point over the step (and the window):
         first read at COARSE points, values of the signal that raise the best; a step whose
         coarse best plus the most its polynomial can rise between them still reaches the best
-        is kept pending (:class:`beltcalc.sim.polish.PendingSteps`) and polished only if it still
+        is kept pending (:class:`beltcalc.sim.watch.polish.PendingSteps`) and polished only if it still
         does when the pending rows fill up or the run ends (:meth:`finish`). Nothing is let go. A start-up
         raises a signal's best at every block, so most candidates are passed by a later one
         and never polished. The steps' Taylor terms are the orbit's own where it kept them
@@ -476,7 +477,7 @@ class Watch:
     def finish(self) -> None:
         """Polish every candidate on the exact polynomial around its point: the polynomials of
         every signal, side, window and candidate at once (:func:`polish_polynomials`), a stiff
-        mode's ladder one by one (:meth:`_polish`). Where candidates were let go whose bound
+        mode's ladder one by one (:func:`zoom_max`). Where candidates were let go whose bound
         lies above the extreme found, :attr:`uncertain` holds by how much (else 0)."""
         run = self.run
         for w in range(len(self.windows)):
@@ -524,7 +525,6 @@ class Watch:
         mode = run.cache.get(*self.keys[self.key[side][w, k, c]])
         tz, p = self.t[side][w, k, c], self.piece[side][w, k, c]
         zi = int(self.zi[side][w, k, c])
-        z = self.pool[zi]
         walked = self.walks(mode)          # its records are bottom-step points
         reach = mode.L if walked else mode.h
         lo_t = max(start, self.piece_start[p], tz - reach)
@@ -559,9 +559,10 @@ class Watch:
             a, b = (lo_t - t0) / mode.h, (hi_t - t0) / mode.h
             if mode.K == 0:      # p(s) = sum_j c_j s^j, |s| <= 1 (||F~ L|| = THETA)
                 jobs.append((slot, side * (self._taylor(mode, i0) @ self.O[k]), a, b))
-            else:                # a ladder too tall to walk step by step: a search on it
-                f = self._ladder(mode, self.pool[i0], k, side)
-                values[slot] = max(values[slot], self._polish(f, max(a, 0.0), min(b, 1.0)))
+            elif min(b, 1.0) > max(a, 0.0):      # a ladder too tall to walk step by step: a search on it
+                found, _ = zoom_max(self._ladder(mode, self.pool[i0], k, side), max(a, 0.0), min(b, 1.0), GRID,
+                                    LADDER_ZOOM)
+                values[slot] = max(values[slot], found)
 
     def _taylor(self, mode, i: int) -> np.ndarray:
         """The Taylor terms of ``mode`` at pool point i (kept while :meth:`finish` runs: the
@@ -572,28 +573,12 @@ class Watch:
             V = self._terms[key] = mode.taylor(self.pool[i])
         return V
 
-    @staticmethod
-    def _polish(f, a: float, b: float) -> float:
-        """The largest value of f on [a, b]: a grid, then a bounded search around its best
-        point. ``f`` is a pair: the function on an array of points, and on one float."""
-        if not b > a:
-            return -np.inf
-        on_grid, at = f
-        s = np.linspace(a, b, GRID)
-        y = on_grid(s)
-        i = int(np.argmax(y))
-        value = float(y[i])
-        lo, hi = s[max(i - 1, 0)], s[min(i + 1, GRID - 1)]
-        if hi > lo:
-            _, fun, _ = bounded_minimum(lambda x: -at(x), lo, hi, xatol=1e-9 * (b - a))
-            value = max(value, -fun)
-        return value
-
     def _ladder(self, mode, z: np.ndarray, k: int, side: int):
-        """side * signal k at the point z + s h of a stiff mode (s in units of its coarse
-        step, read forward on its ladder) as a function of s: (on an array of s, on one float)."""
+        """side * signal k on a grid of GRID points of a stiff mode from the point z (in units
+        of its coarse step, read forward on its ladder): the reader of :func:`zoom_max`."""
         row = self.O[k]
 
-        def g(s):
-            return side * (mode.at(np.repeat(z[None], s.size, axis=0), s * mode.h) @ row)
-        return g, lambda s: float(g(np.array([s]))[0])
+        def read(s0: float, d: float, _i) -> np.ndarray:
+            s = s0 + d * np.arange(GRID)
+            return side * (mode.at(np.repeat(z[None], GRID, axis=0), s * mode.h) @ row)
+        return read

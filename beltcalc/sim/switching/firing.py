@@ -1,11 +1,25 @@
-"""A switching function's polynomial on one bottom step: whether it can fire, and where.
+"""Where a switching function fires: the event location of the switching core.
 
 On a bottom step of the exact solution (:mod:`beltcalc.sim.switching`) every switching
 function ``r . z`` is a polynomial in the step's fraction s (its Taylor coefficients, lowest
 first). Firing means rising through 0 to its firing side (``d p``, d its direction) and going
-on beyond the rounding level ``tol`` there (an excursion within ``tol`` is a graze).
-:func:`stays_down` rules a step out cheaply (values and rates on a grid with the bound of
-p''), after the switching core's Bernstein hull; :func:`first_fire` finds the crossing.
+on beyond the rounding level ``tol`` there (an excursion within ``tol`` is a graze; ``tol``
+is ROUND times the magnitudes the value is summed from). The tests, cheapest first:
+
+* :func:`may_cross` (a stiff mode's coarse steps): a sign change at the step's ends, or the
+  cubic Hermite through their values and rates reaching zero;
+* the reach of the polynomial (``sum_(j>=1) |c_j|``) against its value, in
+  :func:`first_crossing` (and bounded without the polynomial by the modes);
+* :func:`may_fire`: the convex hull of its Bernstein coefficients [FR88 eq. 11];
+* :func:`stays_down`: values and rates on a grid with the bound of p'';
+* :func:`first_fire`: the crossing itself, by sampling, refinement and Brent's method.
+
+:func:`first_crossing` runs them on a block of steps and returns the first crossing.
+
+References:
+
+[FR88] R. T. Farouki and V. T. Rajan, "Algorithms for polynomials in Bernstein form",
+    Comput. Aided Geom. Des. 5 (1988) 1-26.
 """
 
 from __future__ import annotations
@@ -17,8 +31,10 @@ import numpy as np
 from beltcalc.sim.scalar import brentq, horner     # brentq: scipy's, bit for bit, without scipy.optimize
 
 EPS = np.finfo(float).eps
+ROUND = 1024 * EPS   # rounding level of a switching function, relative to sum |r_i z_i|
 
 _POWERS: dict[int, np.ndarray] = {}
+_BERNSTEIN: dict[int, np.ndarray] = {}
 STAYS_GRID = 17      # points at which stays_down reads each polynomial on [0, 1]
 
 
@@ -123,3 +139,84 @@ def first_fire(c: np.ndarray, d: float, tol: float, from_start: bool, limit: flo
             return float(brentq(p, lo, hi, xtol=1e-16, rtol=4 * EPS, maxiter=200))
         k = end
     return None
+
+
+def _bernstein(terms: int) -> np.ndarray:
+    """The matrix taking a polynomial's coefficients on [0, 1] (``terms`` of them, lowest
+    first) to its Bernstein coefficients, ``b_i = sum_(j<=i) C(i, j) / C(n, j) c_j`` (n the
+    degree) [FR88 eq. 11]: positive weights, so each b_i rounds within a few eps of
+    ``sum |c_j|``."""
+    W = _BERNSTEIN.get(terms)
+    if W is None:
+        n = terms - 1
+        W = np.zeros((terms, terms))
+        for i in range(terms):
+            for j in range(i + 1):
+                W[i, j] = math.comb(i, j) / math.comb(n, j)
+        W = _BERNSTEIN[terms] = W
+    return W
+
+
+def may_fire(pc: np.ndarray, tol: np.ndarray) -> np.ndarray:
+    """(events, columns): whether each firing-side polynomial ``pc[:, e, q]`` (terms first,
+    ``d p`` of :func:`first_fire`) can fire on [0, 1] at all, by the convex hull of its
+    Bernstein coefficients (every value of p on [0, 1] lies between their least and largest)
+    [FR88]: not if it never rises above 0, nor if it starts on the firing side beyond ``tol``
+    and never comes back to 0. Every step this rules out is one ``first_fire`` would have
+    refused after sampling and refining it (a strand at rest on its surface, its values
+    exactly 0 at the step's start: hundreds of refinements each)."""
+    T, E, Q = pc.shape
+    B = (_bernstein(T) @ pc.reshape(T, E * Q)).reshape(T, E, Q)
+    stays_up = (pc[0] > tol) & (B.min(axis=0) > 0)
+    return (B.max(axis=0) > 0) & ~stays_up
+
+
+def first_crossing(mode, Z: np.ndarray, first: bool, limit: float = 1.0, C: np.ndarray | None = None,
+                   cleared: int = 0):
+    """The first crossing on the bottom steps Z[i] -> Z[i+1] (rows) of ``mode``
+    (:class:`beltcalc.sim.switching.mode.Mode`): (i, s, event) or None.
+    ``first``: Z[0] is a restart point. ``limit``: fraction of the last step to examine.
+    ``C``: the steps' polynomial coefficients when the orbit already has them; ``cleared``:
+    the first steps the orbit already found no switching function near zero on (its
+    ``stop_early`` test is the candidate test below)."""
+    if not mode.n_events:
+        return None
+    count = Z.shape[0] - 1
+    if C is None:                 # dense: bound first, the full polynomial only where needed
+        steps = np.nonzero(mode.near(Z[:count]).any(axis=0))[0]
+        if steps.size == 0:
+            return None
+        C = mode.coeffs(Z[steps])
+    else:
+        steps = np.arange(cleared, count)
+        C = C[:, :, cleared:count]
+    tol = mode.levels(Z[steps])                                          # (E, steps)
+    reach = np.abs(C[1:]).sum(axis=0)
+    cand = (np.abs(C[0]) <= reach + tol) & (reach + np.abs(C[0]) > tol)
+    e, q = np.nonzero(cand)
+    if e.size:                  # the hull of each candidate's own polynomial (few of E x steps)
+        cand[e, q] = may_fire((C[:, e, q] * mode.dirs[e])[:, None, :], tol[e, q][None, :])[0]
+    for q in np.nonzero(cand.any(axis=0))[0]:      # q: column of C, steps[q]: the step
+        i, best = int(steps[q]), None
+        for e in np.nonzero(cand[:, q])[0]:
+            lim = limit if i == count - 1 else 1.0
+            s = first_fire(C[:, e, q], mode.dirs[e], float(tol[e, q]), not (first and i == 0), lim)
+            if s is not None and (best is None or s < best[0]):
+                best = (s, int(e))
+        if best is not None:
+            return i, best[0], best[1]
+    return None
+
+
+def may_cross(mode, Z0: np.ndarray, Z1: np.ndarray, w: float) -> np.ndarray:
+    """Per step Z0[i] -> Z1[i] (rows, w long) of a stiff mode's ladder: whether a switching
+    function may cross zero inside it: a sign change, or the cubic Hermite through values and
+    rates reaching zero."""
+    G0, G1 = Z0 @ mode.H.T, Z1 @ mode.H.T
+    D0, D1 = (Z0 @ mode.Ft.T) @ mode.H.T * w, (Z1 @ mode.Ft.T) @ mode.H.T * w
+    tol = ROUND * (np.abs(Z0) @ mode.absH.T) + 1e-300
+    change = ((G0 > tol) != (G1 > tol)) | ((G0 < -tol) != (G1 < -tol))
+    dG = G1 - G0
+    reach = 4 / 27 * (np.abs(D0 - dG) + np.abs(D1 - dG))
+    near = np.minimum(np.abs(G0), np.abs(G1)) <= reach + tol
+    return np.any(change | near, axis=-1)

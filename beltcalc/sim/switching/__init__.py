@@ -43,7 +43,7 @@ exact solution mode by mode:
   grazing crossing, never a chatter. Take-up (``delta`` rising through 0) makes the
   damper's force jump to ``b delta'`` (a Kelvin-Voigt contact). See DESIGN.md section 3.0.
 
-The modules, each on one responsibility (none imports the package itself):
+The modules, each on one responsibility (they import one another, never this interface):
 
 * :mod:`~beltcalc.sim.switching.steps`: the bottom step from the dynamics and the Taylor
   series on it;
@@ -57,8 +57,9 @@ The modules, each on one responsibility (none imports the package itself):
 * :mod:`~beltcalc.sim.switching.run`: the run (:func:`piecewise_exact`, :class:`Run`): blocks,
   scans, decisions at a restart.
 
-The names below are the package's interface; each module owns its constants (patch them
-there, e.g. ``beltcalc.sim.switching.run.SPARSE_SIZE``).
+The names below are the package's interface. Each constant is read where it is defined: a
+test that changes one sets it on its own module (``beltcalc.sim.switching.run.SPARSE_SIZE``,
+``beltcalc.sim.switching.sparse.TAIL``), not on the package.
 """
 
 from beltcalc.sim.switching.firing import EPS, ROUND, first_fire, may_fire, stays_down

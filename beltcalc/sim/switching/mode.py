@@ -35,7 +35,7 @@ from beltcalc.sim.switching.steps import step_length, taylor_matrices, taylor_su
 
 STIFF = 64.0         # ||F~|| / fastest oscillation above which coarse steps are used
 TAYLOR_BYTES = 2e6  # a dense mode keeps its Taylor matrices (TERMS x size^2) up to this size (size <= 71)
-NEAR_GROUP = 8       # rows of a block sharing one second-order reach bound (Mode.near) ...
+NEAR_GROUP = 8       # rows of a block sharing one second-order reach bound (DenseMode.near) ...
 NEAR_GROUP_SIZE = 100    # ... on modes of at most this many states (the bound's set-up is 8 size^3)
 
 

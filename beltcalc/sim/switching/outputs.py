@@ -1,9 +1,9 @@
 """What a switching run writes: the samples read off the exact solution, the integrals the
 window's means come from, and the free rigid rotations taken out of the angles.
 
-:class:`Outputs` is the part of :class:`beltcalc.sim.switching.run.Run` that writes them (the
-run's attributes are its own); :func:`rigid_modes` finds the rotations, :func:`slack_times`
-sums each strand's time slack from the run's switches.
+:class:`Outputs` is the part of :class:`beltcalc.sim.switching.run.Run` that writes them;
+:func:`rigid_modes` finds the rotations, :func:`slack_times` sums each strand's time slack
+from the run's switches.
 """
 
 from __future__ import annotations
@@ -40,10 +40,11 @@ class StepIntegrals:
 
 
 class Outputs:
-    """The outputs of a :class:`beltcalc.sim.switching.run.Run`: ``out`` (states at the
-    output times ``t``), ``integrals`` and ``force_integrals`` (from 0, where asked for),
-    ``theta``/``theta_out``/``rebases`` (the rigid rotations taken out), written as the run
-    goes."""
+    """The part of :class:`beltcalc.sim.switching.run.Run` that writes its outputs as it goes:
+    ``out`` (the states at the output times ``t``), ``integrals`` and ``force_integrals``
+    (from 0, where asked for), ``theta``, ``theta_out`` and ``rebases`` (the rigid rotations
+    taken out). The arrays and the run's scaling ``S`` are the run's attributes, set up by
+    its constructor."""
 
     def emit(self, mode: Mode, base: np.ndarray, t_base: np.ndarray, until: float, inclusive: bool = False,
              I_base: np.ndarray | None = None) -> None:

@@ -42,7 +42,9 @@ MAX_STEPS = 20_000_000   # internal steps a run may need (a mode far stiffer tha
 
 
 class ModeCache:
-    """Modes by (pattern, time piece), least recently used dropped beyond CACHE_BYTES."""
+    """Modes by (pattern, time piece), least recently used dropped beyond CACHE_BYTES: sparse
+    ones (:class:`beltcalc.sim.switching.sparse.SparseMode`) where ``parts`` is given, else
+    dense (:class:`beltcalc.sim.switching.mode.DenseMode`)."""
 
     def __init__(self, network, S, omega, rho, scale, parts=None):
         self.network, self.S, self.omega, self.rho, self.scale, self.parts = network, S, omega, rho, scale, parts
@@ -353,7 +355,7 @@ class Run(Outputs):
         return t_stop, z, None
 
     def _keep(self, mode: Mode, count: int) -> np.ndarray | None:
-        """A scratch array for a watched sparse block's Taylor terms (:meth:`Mode.orbit`),
+        """A scratch array for a watched sparse block's Taylor terms (:meth:`SparseMode.orbit`),
         reused from block to block (the watch reads it before the next block), or None:
         unwatched, dense, or larger than KEEP_FLOATS."""
         if self.watch is None or not mode.sparse:

@@ -28,13 +28,9 @@ eq = importlib.util.module_from_spec(_spec)
 sys.modules[_spec.name] = eq              # its dataclasses look their module up
 _spec.loader.exec_module(eq)
 
-# Converted after the reshaping lands: modules that other work is moving now (the switching
-# core and the linear algebra). A name is a module or a package, with its old and new layout
-# alike (``sim/switching`` is ``sim/switching.py`` or ``sim/switching/*.py``). They may still
-# hold the old spellings; the lead converts them and empties this list.
-NOT_YET_CONVERTED = frozenset({
-    "beltcalc/sim/switching",
-})
+# Modules that may still hold the old spellings: none since the reshaping (switching and the
+# linear algebra were the last); a name is a module or a package.
+NOT_YET_CONVERTED: frozenset[str] = frozenset()
 
 
 def _converted(path: Path) -> bool:

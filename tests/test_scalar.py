@@ -1,6 +1,5 @@
-"""beltcalc.numerics.scalar: the ports of scipy's brentq, golden section and bounded search return
-scipy's numbers bit for bit (the frequency response's peaks and Q, and the watched extremes,
-were computed by scipy before)."""
+"""beltcalc.numerics.scalar: the ports of scipy's brentq and golden section return scipy's
+numbers bit for bit (the frequency response's peaks and Q were computed by scipy before)."""
 
 from __future__ import annotations
 
@@ -12,7 +11,7 @@ import pytest
 from scipy.optimize import brentq as scipy_brentq
 from scipy.optimize import minimize_scalar
 
-from beltcalc.numerics.scalar import bounded_minimum, brentq, golden_minimum, horner
+from beltcalc.numerics.scalar import brentq, golden_minimum, horner
 
 
 def _outcome(call):
@@ -78,61 +77,6 @@ def test_golden_minimum_is_scipys_on_random_brackets():
         x, fx = golden_minimum(f, xa, xb, xc, xtol=1e-12)
         assert (float(x), float(fx)) == (float(ref.x), float(ref.fun))
         done += 1
-
-
-def _scipy_bounded(f, lo, hi, **options):
-    res = minimize_scalar(f, bounds=(lo, hi), method="bounded", options=options)
-    return float(res.x), float(res.fun), int(res.status)
-
-
-def test_bounded_minimum_is_scipys_on_random_polynomials():
-    # what the watch polishes: minus a Taylor polynomial (34 to 49 terms, |s| <= 1) near a grid
-    # maximum, three grid points wide, xatol 1e-9 of the whole interval
-    rng = random.Random(3)
-    for _ in range(500):
-        c = [rng.uniform(-1, 1) / math.factorial(j) * rng.choice([1.0, 1e3, 1e-6]) for j in range(34)]
-
-        def f(x):
-            y = c[-1]
-            for cj in reversed(c[:-1]):
-                y = cj + y * x
-            return -y
-
-        a, b = rng.uniform(-1, 0), rng.uniform(0, 1)
-        s = np.linspace(a, b, 257)
-        i = int(np.argmax([-f(float(x)) for x in s]))
-        lo, hi = s[max(i - 1, 0)], s[min(i + 1, 256)]
-        xatol = rng.choice([1e-9 * (b - a), 1e-5, 1e-14])
-        assert bounded_minimum(f, lo, hi, xatol=xatol) == _scipy_bounded(f, lo, hi, xatol=xatol)
-
-
-def test_bounded_minimum_is_scipys_on_random_functions():
-    rng = random.Random(4)
-    for _ in range(300):
-        c, s, w = rng.uniform(-2, 2), rng.uniform(0.05, 3), rng.uniform(0, 20)
-
-        def f(x):
-            return -1.0 / (1 + ((x - c) / s) ** 2) + 0.05 * math.sin(w * x) + 1e-3 * abs(x)
-
-        lo, hi = sorted((rng.uniform(-4, 4), rng.uniform(-4, 4)))
-        kw = rng.choice([{}, {"xatol": 1e-12}, {"xatol": 1e-3, "maxiter": 7}, {"maxiter": 3}])
-        assert bounded_minimum(f, lo, hi, **kw) == _scipy_bounded(f, lo, hi, **kw)
-
-
-@pytest.mark.parametrize("f, lo, hi", [
-    (lambda x: x, 1.0, 1.0),                                   # an empty interval
-    (lambda x: 5.0, 0.0, 1.0),                                 # flat
-    (lambda x: abs(x - 0.5), 0.0, 1.0),                        # a kink
-    (lambda x: -x, 0.0, 1e-300),                               # tiny interval, minimum at the end
-    (lambda x: math.nan, 0.0, 1.0),                            # NaN: status 2
-    (lambda x: math.nan if x > 0.5 else x, 0.0, 1.0),
-    (lambda x: x, 0.0, math.inf),                              # unbounded: ValueError
-    (lambda x: x, 2.0, 1.0),                                   # reversed: ValueError
-])
-def test_bounded_minimum_edge_cases_as_scipy(f, lo, hi):
-    ours = _outcome(lambda: bounded_minimum(f, lo, hi, xatol=1e-9))
-    theirs = _outcome(lambda: _scipy_bounded(f, lo, hi, xatol=1e-9))
-    assert repr(ours) == repr(theirs)        # repr: NaN equals NaN
 
 
 def test_the_response_peaks_are_scipys():

@@ -16,6 +16,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from beltcalc.sim import switching
+from beltcalc.sim.switching import run as run_module, sparse as sparse_module
 from beltcalc.sim.propagate import augmented_matrix, orbit
 from beltcalc.sim.network import Inertia, Load, Network, Strand
 from beltcalc.sim.scenes import roller_table
@@ -40,12 +41,12 @@ def test_stamps_rebuild_every_strand_pattern(over):
 
 
 def run(net, t, x0, sparse):
-    old = switching.SPARSE_SIZE
-    switching.SPARSE_SIZE = 1 if sparse else 10**9
+    old = run_module.SPARSE_SIZE
+    run_module.SPARSE_SIZE = 1 if sparse else 10**9
     try:
         r = switching.Run(net, t, x0, 100_000).run()
     finally:
-        switching.SPARSE_SIZE = old
+        run_module.SPARSE_SIZE = old
     return r
 
 
@@ -154,18 +155,18 @@ def test_sparse_path_without_scipys_private_kernel(monkeypatch):
     # the CSR kernels are scipy's private csr_matvec(s); without them the public product runs, same result
     seq = bounce_sequence()
     net, x0 = bouncing_net()
-    monkeypatch.setattr(switching, "_kernels", None)
+    monkeypatch.setattr(sparse_module, "_kernels", None)
     r = run(net, np.linspace(0.0, 1.0, 201), x0, True)
     assert_allclose([s[0] for s in r.switches], [s for s, _ in seq["switches"]], rtol=0, atol=1e-9)
 
 
 def _sparse_run(net, t):
-    old = switching.SPARSE_SIZE
-    switching.SPARSE_SIZE = 1
+    old = run_module.SPARSE_SIZE
+    run_module.SPARSE_SIZE = 1
     try:
         return switching.Run(net, t, np.zeros(net.size), 100_000)
     finally:
-        switching.SPARSE_SIZE = old
+        run_module.SPARSE_SIZE = old
 
 
 def test_sparse_assembly_is_the_dense_matrix_of_every_pattern():
@@ -208,13 +209,13 @@ def test_sparse_orbit_truncated_terms_and_kept_terms():
     Z, _, J = mode.orbit(z, 40, integrate=True, keep=keep)
     V = mode.kept(Z[0]).copy()                  # the block's terms (the next orbit drops them)
     assert V.shape[0] == 40
-    old = switching.TAIL
-    switching.TAIL = 0.0
+    old = sparse_module.TAIL
+    sparse_module.TAIL = 0.0
     try:
         mode._used = mode.terms
         Zf, _, Jf = mode.orbit(z, 40, integrate=True)
     finally:
-        switching.TAIL = old
+        sparse_module.TAIL = old
     assert mode._used == mode.terms                           # the full series: every term
     size = np.abs(Zf).sum(axis=1, keepdims=True)
     assert_allclose(Z, Zf, rtol=0, atol=1e-13 * size.max())
@@ -245,9 +246,9 @@ def test_scipys_private_kernels_are_checked_before_use():
     # a kernel that ignores its output, or takes other arguments, is refused
     from scipy.sparse._sparsetools import csr_matvec, csr_matvecs
 
-    assert switching._kernels_agree(csr_matvec, csr_matvecs) is True
-    assert switching._kernels_agree(lambda *a: None, csr_matvecs) is False
+    assert sparse_module._kernels_agree(csr_matvec, csr_matvecs) is True
+    assert sparse_module._kernels_agree(lambda *a: None, csr_matvecs) is False
 
     def other_signature(*args):
         raise TypeError("csr_matvec() takes 6 arguments")
-    assert switching._kernels_agree(csr_matvec, other_signature) is False
+    assert sparse_module._kernels_agree(csr_matvec, other_signature) is False

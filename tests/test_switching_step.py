@@ -3,7 +3,7 @@
 * ``step_length``: ``min(8 / ||F~||, 4 / rho)``: a chain whose strand stiffness sets the
   norm steps by the norm, a stiff coupling whose own frequency is near the norm by the
   radius; the spectral radius of the sparse path comes from power steps.
-* ``_may_fire`` (the Bernstein convex hull) and ``stays_down`` (values and rates on a grid
+* ``may_fire`` (the Bernstein convex hull) and ``stays_down`` (values and rates on a grid
   with the bound of p'') may rule a candidate out only where ``first_fire`` (sampling,
   refinement, Brent) finds no crossing.
 """
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from beltcalc.sim import switching
-from beltcalc.sim.firing import first_fire, stays_down
-from beltcalc.sim.sparse_parts import SparseParts
+from beltcalc.sim.switching.firing import first_fire, may_fire, stays_down
+from beltcalc.sim.switching.parts import SparseParts
 from beltcalc.sim.scenes import SCENES, roller_table, sewing
 from test_switching_reference import params
 
@@ -63,14 +63,14 @@ def test_power_radius_of_a_sparse_chain_and_of_a_rotation():
     run = switching.Run(net, t, np.zeros(net.size), 100)
     F = SparseParts(net, run.S).scipy_matrix(run.start_taut, 0.5)
     exact = float(np.max(np.abs(np.linalg.eigvals(F.toarray()))))
-    assert switching._power_radius(F) == pytest.approx(exact, rel=0.01)
+    assert switching.power_radius(F) == pytest.approx(exact, rel=0.01)
     # a dominant complex pair of modulus 3 (the growth oscillates) above a real 2.9
     B = np.zeros((5, 5))
     B[:2, :2] = [[0.0, -3.0], [3.0, 0.0]]
     B[2, 2], B[3, 3], B[4, 4] = 2.9, -1.0, 0.5
     Q = np.linalg.qr(np.random.default_rng(1).standard_normal((5, 5)))[0]
-    assert switching._power_radius(sparse.csr_matrix(Q @ B @ Q.T)) == pytest.approx(3.0, rel=0.01)
-    assert switching._power_radius(sparse.csr_matrix(np.triu(np.ones((4, 4)), 1))) == 0.0   # nilpotent
+    assert switching.power_radius(sparse.csr_matrix(Q @ B @ Q.T)) == pytest.approx(3.0, rel=0.01)
+    assert switching.power_radius(sparse.csr_matrix(np.triu(np.ones((4, 4)), 1))) == 0.0   # nilpotent
 
 
 def _random_polynomials(rng, count, T=49):
@@ -90,7 +90,7 @@ def test_the_bernstein_hull_rules_out_only_what_first_fire_refuses():
     C = _random_polynomials(rng, 600)
     d = rng.choice([-1.0, 1.0], size=len(C))
     tol = 1024 * switching.EPS * np.abs(C).sum(axis=1) * rng.choice([1.0, 1e-290], size=len(C))
-    may = switching._may_fire((C * d[:, None]).T[:, None, :], tol[None, :])[0]
+    may = may_fire((C * d[:, None]).T[:, None, :], tol[None, :])[0]
     ruled_out = 0
     for k in range(len(C)):
         if may[k]:

@@ -31,24 +31,21 @@
 # (INCLUDING NEGLIGENCE OR OTHERWISE) ARISING IN ANY WAY OUT OF THE USE
 # OF THIS SOFTWARE, EVEN IF ADVISED OF THE POSSIBILITY OF SUCH DAMAGE.
 
-r"""Scalar search: a root by Brent's method, a minimum by golden section or in bounds.
+r"""Scalar search: a root by Brent's method, a minimum by golden section.
 
-All are line-for-line ports of scipy's (``scipy.optimize.brentq``, from its C source
-``Zeros/brentq.c``; ``minimize_scalar(method="golden")`` with a three-point bracket; and
-``minimize_scalar(method="bounded")``, Brent's ``fminbound``), the same floating-point
+Both are line-for-line ports of scipy's (``scipy.optimize.brentq``, from its C source
+``Zeros/brentq.c``; ``minimize_scalar(method="golden")`` with a three-point bracket), the same floating-point
 operations in the same order, so they return the same numbers bit for bit
 (``tests/test_scalar.py`` checks it against scipy). They are here because importing
 ``scipy.optimize`` costs about a third of a command's start-up, and these few lines are all
-the frequency response, the switching core and the watched extremes use of it.
+the frequency response and the switching core use of it.
 
 References
 ----------
 1. R. P. Brent, *Algorithms for Minimization without Derivatives*, Prentice-Hall, 1973,
-   ch. 4 (the root) and ch. 5.
+   ch. 4 (the root).
 2. W. H. Press et al., *Numerical Recipes*, 3rd ed., 2007, sec. 9.3 (Brent's root) and
    10.2 (golden section search).
-3. G. E. Forsythe, M. A. Malcolm, C. B. Moler, *Computer Methods for Mathematical
-   Computations*, Prentice-Hall, 1977, sec. 8.2 (``fmin``: the bounded search).
 """
 
 from __future__ import annotations
@@ -62,7 +59,6 @@ RTOL = 4 * sys.float_info.epsilon         # and the smallest relative one it acc
 MAXITER = 100
 _GR = 0.61803399                          # the golden ratio's conjugate, as scipy rounds it
 _GC = 1.0 - _GR
-_SQRT_EPS = math.sqrt(2.2e-16)            # fminbound's, as scipy writes it
 _GOLDEN_MEAN = 0.5 * (3.0 - math.sqrt(5.0))
 
 
@@ -256,129 +252,3 @@ def golden_minimum(f: Callable[[float], float], xa: float, xb: float, xc: float,
             f2, f1 = f1, f(x1)
     return (x1, f1) if f1 < f2 else (x2, f2)
 
-
-def _sign(x: float) -> float:
-    """numpy's ``sign``: -1, 0 or 1, NaN for NaN."""
-    return x if x != x else (1.0 if x > 0 else -1.0 if x < 0 else 0.0)
-
-
-def _maximum(x: float, y: float) -> float:
-    """numpy's ``maximum``: NaN if either is."""
-    return x if x != x else y if y != y else (x if x >= y else y)
-
-
-def bounded_minimum(f: Callable[[float], float], x1: float, x2: float, xatol: float = 1e-5,
-                    maxiter: int = 500) -> tuple[float, float, int]:
-    r"""(x, f(x), status) at a minimum of ``f`` on [x1, x2] by Brent's bounded search
-    (golden section with parabolic steps), until x is known within about ``xatol``.
-
-    Parameters
-    ----------
-    f : callable
-        Function of one float
-    x1, x2 : float
-        The bounds, finite, x1 <= x2
-    xatol : float
-        Absolute tolerance in x
-    maxiter : int
-        Function evaluations at most
-
-    Returns
-    -------
-    tuple
-        The abscissa, the value there, and scipy's status: 0 converged, 1 ``maxiter``
-        evaluations reached, 2 a NaN met
-
-    Raises
-    ------
-    ValueError
-        A bound not finite, or x1 > x2
-
-    Notes
-    -----
-    scipy's ``minimize_scalar(f, bounds=(x1, x2), method="bounded",
-    options={"xatol": xatol, "maxiter": maxiter})`` (``_minimize_scalar_bounded`` in
-    ``scipy/optimize/_optimize.py``), statement by statement (its result's ``x``, ``fun``
-    and ``status``).
-
-    Examples
-    --------
-    >>> x, fx, status = bounded_minimum(lambda x: (x - 1.0) ** 2, 0.0, 3.0, xatol=1e-10)
-    >>> round(x, 9), fx < 1e-18, status
-    (1.0, True, 0)
-    """
-    if not (math.isfinite(x1) and math.isfinite(x2)):
-        raise ValueError("Optimization bounds must be finite scalars.")
-    if x1 > x2:
-        raise ValueError("The lower bound exceeds the upper bound.")
-    flag = 0
-    a, b = float(x1), float(x2)
-    fulc = a + _GOLDEN_MEAN * (b - a)
-    nfc, xf = fulc, fulc
-    rat = e = 0.0
-    x = xf
-    fx = f(x)
-    num = 1
-    fu = math.inf
-    ffulc = fnfc = fx
-    xm = 0.5 * (a + b)
-    tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
-    tol2 = 2.0 * tol1
-    while abs(xf - xm) > (tol2 - 0.5 * (b - a)):
-        golden = 1
-        if abs(e) > tol1:                         # a parabolic fit
-            golden = 0
-            r = (xf - nfc) * (fx - ffulc)
-            q = (xf - fulc) * (fx - fnfc)
-            p = (xf - fulc) * q - (xf - nfc) * r
-            q = 2.0 * (q - r)
-            if q > 0.0:
-                p = -p
-            q = abs(q)
-            r = e
-            e = rat
-            if (abs(p) < abs(0.5 * q * r)) and (p > q * (a - xf)) and (p < q * (b - xf)):   # acceptable
-                rat = (p + 0.0) / q
-                x = xf + rat
-                if ((x - a) < tol2) or ((b - x) < tol2):
-                    si = _sign(xm - xf) + ((xm - xf) == 0)
-                    rat = tol1 * si
-            else:
-                golden = 1
-        if golden:                                # a golden-section step
-            if xf >= xm:
-                e = a - xf
-            else:
-                e = b - xf
-            rat = _GOLDEN_MEAN * e
-        si = _sign(rat) + (rat == 0)
-        x = xf + si * _maximum(abs(rat), tol1)
-        fu = f(x)
-        num += 1
-        if fu <= fx:
-            if x >= xf:
-                a = xf
-            else:
-                b = xf
-            fulc, ffulc = nfc, fnfc
-            nfc, fnfc = xf, fx
-            xf, fx = x, fu
-        else:
-            if x < xf:
-                a = x
-            else:
-                b = x
-            if (fu <= fnfc) or (nfc == xf):
-                fulc, ffulc = nfc, fnfc
-                nfc, fnfc = x, fu
-            elif (fu <= ffulc) or (fulc == xf) or (fulc == nfc):
-                fulc, ffulc = x, fu
-        xm = 0.5 * (a + b)
-        tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
-        tol2 = 2.0 * tol1
-        if num >= maxiter:
-            flag = 1
-            break
-    if math.isnan(xf) or math.isnan(fx) or math.isnan(fu):
-        flag = 2
-    return xf, fx, flag

@@ -102,6 +102,12 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("JLL14", "Numerical methods",
            'R. James, J. Langou, B. R. Lowery, "On matrix balancing and eigenvector computation", '
            'arXiv:1401.5766 (2014)'),
+    Source("VL78", "Numerical methods",
+           'C. F. Van Loan, "Computing integrals involving the matrix exponential", IEEE Trans. Automat. '
+           'Control 23 (1978) 395-404'),
+    Source("FR88", "Numerical methods",
+           'R. T. Farouki and V. T. Rajan, "Algorithms for polynomials in Bernstein form", Comput. Aided '
+           'Geom. Des. 5 (1988) 1-26'),
     Source("Guy65", "Numerical methods",
            'R. J. Guyan, "Reduction of stiffness and mass matrices", AIAA Journal 3 (1965) 380'),
     Source("CGL79", "Numerical methods",

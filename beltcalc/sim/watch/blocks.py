@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from beltcalc.sim.linalg import expm
+from beltcalc.numerics.expm import expm
 from beltcalc.sim.watch.polish import (COARSE, GRID, PendingSteps, horner_rows, polish_polynomials, trim_terms,
                                        zoom_max)
 from beltcalc.sim.propagate import orbit

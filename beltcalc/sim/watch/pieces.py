@@ -21,7 +21,7 @@ import numpy as np
 
 from beltcalc.errors import InputError
 from beltcalc.sim.elements import Prescribed, SpeedLoop, piece
-from beltcalc.sim.linalg import expm
+from beltcalc.numerics.expm import expm
 from beltcalc.sim.propagate import augment, orbit
 from beltcalc.sim.watch.polish import zoom_max
 

@@ -1,6 +1,7 @@
 """A large network's strand patterns as sparse matrices, for the switching core's sparse path
-(:mod:`beltcalc.sim.switching`): the balanced ``F~`` of any pattern and its switching rows,
-assembled in O(nonzeros) from the network's all-slack matrix and its strands' stamps.
+(:class:`beltcalc.sim.switching.sparse.SparseMode`): the balanced ``F~`` of any pattern and
+its switching rows, assembled in O(nonzeros) from the network's all-slack matrix and its
+strands' stamps.
 """
 
 from __future__ import annotations

@@ -279,7 +279,10 @@ def test_ctrl_c_is_one_line_exit_130_and_no_file(tmp_path):
     args = [sys.executable, "-m", "beltcalc.cli.main", "simulate", "sewing", "--steady-state-only",
             "--vary", "C4=uniform(100N*m/rad,300N*m/rad)", "--runs", "10000000", "--workers", "1",
             "--csv", "out.csv", "--json"]
-    proc = subprocess.Popen(args, cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # Ctrl-C as a terminal delivers it: SIGINT at its default (a suite started in the background
+    # by a non-interactive shell inherits SIGINT ignored, and Python then leaves it ignored)
+    proc = subprocess.Popen(args, cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 180          # bounds on waiting (a busy machine), not timings
     while not any(writer.TEMP_PATTERN.fullmatch(p.name) for p in tmp_path.iterdir()):   # the study has begun
         assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()

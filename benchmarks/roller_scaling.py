@@ -114,20 +114,24 @@ def main() -> None:
              "single-threaded; every run its own process. Radau: rtol 1e-9, atol 1e-12, events at every strand "
              f"switch, stopped after {args.radau_limit:g} s. Difference: max |speed exact - speed Radau| over every "
              "node and sample [rad/s]. Estimate: the exact method's own error estimate (its largest relative to "
-             "the signal's scale).", "",
+             "the signal's scale). Load: the machine's 1-minute load average when the exact runs began and "
+             f"ended ({time.strftime('%Y-%m-%d')}).", "",
              "| rollers | states | switches | exact [s] | exact + estimate [s] | estimate | Radau [s] "
-             "| Radau / exact | max difference [rad/s] |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "| Radau / exact | max difference [rad/s] | load |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     with tempfile.TemporaryDirectory() as folder:
         for n in (int(x) for x in args.rollers.split(",")):
+            load = [os.getloadavg()[0]]          # the shared machine's load: what the times ran beside
             ex = case(n, "exact", folder, 3600)
             est = case(n, "exact+estimate", folder, 3600)
+            load.append(os.getloadavg()[0])
             rad = case(n, "radau", folder, args.radau_limit)
             diff = float(np.max(np.abs(ex["speeds"] - rad["speeds"]))) if rad else None
             row = (f"| {n} | {ex['states']} | {ex['switches']} | {ex['wall']:.3g} | {est['wall']:.3g} | "
                    f"{est['estimate']:.2g} {est['estimate_unit']} ({est['relative']:.1g}) | "
                    + (f"{rad['wall']:.3g} | {rad['wall'] / ex['wall']:.3g} | {diff:.2g} |" if rad else
-                      f"> {args.radau_limit:g} (stopped) | - | - |"))
+                      f"> {args.radau_limit:g} (stopped) | - | - |")
+                   + f" {load[0]:.1f}-{load[1]:.1f} |")
             lines.append(row)
             print(row, flush=True)
             # the table so far, after every row: a run stopped later keeps the rows it finished

@@ -326,9 +326,9 @@ def sized(*catalogs: str, motor: str | None = None):
 
 
 def test_zone_panel_draws_the_assumed_zone_and_the_cycle():
-    from beltcalc.cli.motor_size import _zone_plot_data
+    from beltcalc.design.motor_report import zone_plot_data
 
-    data = _zone_plot_data(sized())
+    data = zone_plot_data(sized())
     # SGM7J-06A: T_max 6.69 N m flat to the rated 3000 rpm, then down to T_n 1.91 N m at 6000 rpm
     assert data["intermittent_assumed"] and not data["continuous_from_catalog"]
     assert data["intermittent"] == [pytest.approx(p, rel=1e-12) for p in [(0.0, 6.69), (3000.0, 6.69), (6000.0, 1.91)]]
@@ -342,7 +342,8 @@ def test_zone_panel_draws_the_assumed_zone_and_the_cycle():
 
 
 def test_zone_panel_draws_a_catalog_zone(tmp_path):
-    from beltcalc.cli.motor_size import _plot_profile, _zone_plot_data
+    from beltcalc.cli.motor_size import _plot_profile
+    from beltcalc.design.motor_report import zone_plot_data
 
     cat = tmp_path / "m.toml"
     cat.write_text('''[source]
@@ -362,7 +363,7 @@ units = { P = "W", T_n = "N*m", T_max = "N*m", J = "kg*cm^2", n_rated = "rpm", n
 ''')
     s = sized(str(cat), motor="TEST-2")
     assert s.shown.motor.name == "TEST-2"
-    data = _zone_plot_data(s)
+    data = zone_plot_data(s)
     assert not data["intermittent_assumed"] and data["continuous_from_catalog"]
     assert data["continuous"] == [pytest.approx(p, rel=1e-12) for p in [(0.0, 2.2), (3000.0, 1.91), (6000.0, 0.8)]]
     pytest.importorskip("matplotlib")

@@ -14,11 +14,15 @@ import math
 import click
 
 from beltcalc.cli.options import OutputPath, catalog_option, output_options, quantity_option, scene_options
-from beltcalc.cli.contract import checks_json, echo_inputs, entry, fmt, options_text, out_of_range, quantity, shown
-from beltcalc.cli.output import (Row, console, dumps, emit_warnings, print_table, progress,
+from beltcalc.cli.contract import checks_json, echo_inputs, entry, fmt, options_text, out_of_range, shown
+from beltcalc.cli.output import (console, dumps, emit_warnings, print_table, progress,
                                  require_matplotlib, save_figure, strict_option, table_csv, write_atomic, wrote)
+from beltcalc.cli.main import option_name
 from beltcalc.checks import percent
+from beltcalc.design.motor_report import (SWEEP_COLUMNS, inherited_rows, profile_csv, profile_samples, report_dict,
+                                          report_sections, scene_dict, sweep_table, zone_plot_data)
 from beltcalc.errors import InputError, UnknownNameError, did_you_mean
+from beltcalc.report import Section
 from beltcalc.sizing import PARAMS
 
 
@@ -188,13 +192,13 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
             exc.param = "segment"
         raise
 
-    sections, rows = _sections(sizing)
+    sections = report_sections(sizing, option_name)
     warnings = options_text(sizing.warnings)
     fits = sizing.choice.selected is not None
     emit_warnings(warnings, sizing.checks, strict and fits)   # with --strict, a failing check ends here
     if fits:                      # files only for a result that is good: no file when no motor fits
         if csv_path is not None:
-            write_atomic(csv_path, _profile_csv(sizing))
+            write_atomic(csv_path, profile_csv(sizing))
             wrote(csv_path)
         if plot_path is not None:
             _plot_profile(sizing, plot_path)
@@ -202,14 +206,17 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
     inherited = {k: v for k, v in values.items() if not v.given and k not in replaced}
     new_axis = any(v.given for v in values.values()) or incline != 0 or counterweight != 0
     if as_json:
-        click.echo(_json(sizing, rows, values, _inputs(ctx, values), warnings,
-                         _scene_json(scene_def, inherited, new_axis)))
+        obj = report_dict(sizing, sections, option_name)
+        obj.update(scene=scene_dict(scene_def, inherited, new_axis), inputs=_inputs(ctx, values),
+                   checks=checks_json(sizing.checks), warnings=warnings)
+        click.echo(dumps(obj))
     else:
         title = scene_def.title
         if new_axis and scene_def.name != "none":
             title = f"your axis on the scene {scene_def.name}"
-        sections += [(f"from the scene {scene_def.name} (not given; override with the option)",
-                      _inherited_rows(inherited))] if new_axis and inherited else []
+        if new_axis and inherited:
+            sections.append(Section(("scene",), f"from the scene {scene_def.name} (not given; override with "
+                                    "the option)", inherited_rows(inherited, option_name)))
         _print(sizing, sections, values, title + (f"; cycle: {cycle.title}" if cycle else ""))
     if not fits:
         raise InputError(f"no motor fits: {sizing.choice.reason} (see the table); lower --accel or --speed, "
@@ -236,7 +243,6 @@ def _no_scene(given, replaced):
     all the missing ones named in one message (those a cycle, a move time or a catalog
     gearbox replaces stand in as unused)."""
     from beltcalc.catalogs import Source
-    from beltcalc.cli.main import option_name
     from beltcalc.scenefile import SceneFile
 
     missing = [option_name(p.name) for p in PARAMS
@@ -265,28 +271,6 @@ def _replaced(cycle: bool, move_time: bool, gearbox: bool) -> set[str]:
         if on:
             out.update(_REPLACED[flag])
     return out
-
-
-def _inherited_rows(inherited) -> list[Row]:
-    """One row per inherited value: its text as the scene gives it, where it is measured
-    (motor or carriage side) and the scene's reason, shortened to its source."""
-    from beltcalc.cli.main import option_name
-    from beltcalc.sizing import where
-
-    rows = []
-    for name, v in inherited.items():
-        why = v.origin.removeprefix("scene: ")
-        source = why.split(":")[0].split(",")[0].strip() if ":" in why else ""
-        rows.append(Row(f"scene_{name}", option_name(name), v.text, "", note=f"{where(name, v.value)}"
-                        + (f"; {source}" if source else "")))
-    return rows
-
-
-def _scene_json(scene_def, inherited, new_axis: bool) -> dict:
-    from beltcalc.sizing import where
-
-    return {"name": scene_def.name, "title": scene_def.title, "new_axis": new_axis,
-            "inherited": {k: {"text": v.text, "where": where(k, v.value)} for k, v in inherited.items()}}
 
 
 def _check_combinations(given, jerk, move_time, cycle_option, sweep, incline, counterweight, brake, eff, eff_back,
@@ -339,141 +323,10 @@ def _motor_list(cat, files: str | None):
     return picked
 
 
-def _jerk_limited(g) -> bool:
-    """Whether the jerk keeps move ``g`` below its acceleration limit (see
-    :func:`beltcalc.sizing.jerk_limited`)."""
-    p = g.profile
-    return (g.kind == "move" and math.isfinite(getattr(p, "jerk", math.inf))
-            and p.peak_accel < p.accel * (1 - 1e-12))
-
-
-# The load / motor inertia ratio with no motor to report: no rotor inertia to divide by (a
-# physical absence, not a float's range).
-NO_MOTOR_RATIO = "no motor fits, so there is no rotor inertia to divide by; give --motor NAME"
-
-
-def _rpm(w: float) -> str:
-    return f"{w * 30 / math.pi:.0f} rpm"
-
-
-def _sections(s) -> tuple[list, list[Row]]:
-    from beltcalc.sizing import first_move_energy
-
-    ax, shown = s.axis, s.shown
-    move = s.first_move
-    prof = move.profile
-    single = s.drive and len([g for g in s.segments if g.kind == "move"]) == 1
-    motor_j = shown.motor.J if shown else 0.0
-    parts = ax.inertia_parts()
-    load_j = s.drive.load_inertia(s.segments)
-    k = ax.carriage_per_motor()
-    cycle_time = sum(g.time for g in s.segments)
-    peak_speed = max(p.peak_speed for p in (g.profile for g in s.segments if g.kind == "move"))
-    accel = getattr(prof, "peak_accel", 0.0) or prof.accel
-    limited = _jerk_limited(move)
-    motion = [
-        Row("pulley_diameter", "pulley pitch diameter D", ax.pulley_diameter, "m", "mm",
-            note="drive pulley, carriage side"),
-        Row("gear_ratio", "gear ratio i", ax.gear_ratio, "1",
-            note="motor speed / drive-pulley speed" + (f"; {s.drive.gearbox.name}" if s.drive.gearbox.name else "")),
-        Row("motor_speed", "peak motor speed", peak_speed, "rad/s", "rpm",
-            note="triangular: speed not reached" if single and prof.triangular else ""),
-        Row("carriage_speed", "peak carriage speed", peak_speed * k, "m/s"),
-        Row("motor_accel", "motor acceleration" + ("" if single else " (first move)"), accel, "rad/s^2",
-            note=f"the jerk limits it: {fmt(prof.accel, 4)} rad/s^2 asked" if limited else ""),
-        Row("carriage_accel", "carriage acceleration" + ("" if single else " (first move)"), accel * k, "m/s^2",
-            note=f"the jerk limits it: {fmt(prof.accel * k, 4)} m/s^2 asked" if limited else ""),
-    ]
-    if math.isfinite(getattr(prof, "jerk", math.inf)):
-        motion.append(Row("motor_jerk", "motor jerk limit" + ("" if single else " (first move)"), prof.jerk,
-                          "rad/s^3", note="S-curve"))
-    motion.append(Row("cycle_time", "cycle time", cycle_time, "s"))
-    mt = s.drive.mounting
-    if mt.incline != 0:
-        motion.append(Row("incline", "incline", mt.incline, "rad", "deg",
-                          note="of the carriage's travel (+x) above horizontal"
-                               + ("; brake holds in dwells" if mt.brake else "")))
-    if mt.counterweight:
-        motion.append(Row("counterweight", "counterweight", mt.counterweight, "kg", note="carriage side"))
-    inertia = [Row("inertia_motor", f"motor rotor ({shown.motor.name if shown else 'none'})", motor_j,
-                   "kg m^2", "kg*cm^2")]
-    inertia += [Row("inertia_" + n.replace(" ", "_"), n, v, "kg m^2", "kg*cm^2") for n, v in parts.items()]
-    inertia += [
-        Row("reflected_inertia", "reflected inertia J_red", load_j + motor_j, "kg m^2", "kg*cm^2",
-            note="at the motor shaft" + ("; largest payload" if not single else "")
-                 + ("; counterweight" if mt.counterweight else "")),
-        Row("inertia_ratio", "load / motor inertia", shown.inertia_ratio if shown else None, "1", digits=3,
-            note="" if shown else NO_MOTOR_RATIO),
-    ]
-    rows = motion + inertia
-    if shown is None:
-        return [("motion", motion), ("reflected inertia, at the motor shaft", inertia)], rows
-    d = shown.duty
-    torque = []
-    if single:
-        # each phase at its peak, signed (the largest |T| over the phase), then its start -> end
-        torque += [Row(f"torque_{p.name}", f"{p.name} ({p.duration:.3g} s)", p.extreme, "N m", digits=3,
-                       note=f"peak; {fmt(p.torque0, 3)} -> {fmt(p.torque1, 3)} N m")
-                   for p in d.phases]
-    t_a, e29, exact = first_move_energy(s)
-    m = shown.motor
-    torque += [
-        Row("peak_torque", "peak torque", d.peak_torque, "N m", digits=3, note=f"T_max {m.T_max:g} N m"),
-        Row("rms_torque", "RMS torque", d.rms_torque, "N m", digits=3,
-            note=f"limit {fmt(shown.continuous_limit, 3)} N m: {percent(shown.utilisation)} of T_n"),
-        Row("mean_speed", "mean speed", d.mean_speed, "rad/s", "rpm", note=f"rated {_rpm(m.n_rated)}"),
-        Row("peak_power", "peak power", d.peak_power, "W", digits=3),
-        Row("holding_torque", "holding torque at rest", d.holding_torque, "N m", digits=3),
-        Row("braking_torque", "braking torque", d.braking_torque, "N m", digits=3,
-            note="while braking (power flows back)" if d.braking_energy > 0 else "no braking"),
-        Row("braking_energy", "braking energy per cycle", d.braking_energy, "J", digits=3),
-        Row("motoring_energy", "motoring energy per cycle", d.energy_motoring, "J", digits=3),
-        Row("accel_time", "acceleration time t_a", t_a, "s", digits=3, note="" if single else "first move"),
-        Row("accel_energy", "energy E = T_max w_max t_a", e29, "J", digits=3, note="eq. 29"),
-        Row("accel_energy_exact", "energy, integral T w dt", exact, "J", digits=3,
-            note="acceleration phase, exact" if single else "first move's acceleration, exact"),
-    ]
-    z = shown.zone
-    zone = [Row("zone_margin", "smallest margin to the peak zone", z.margin, "N m", digits=3,
-                note=f"{s.segments[z.segment].name}/{z.phase}, t = {z.time:.4g} s, {_rpm(z.speed)}: "
-                     f"|T| {fmt(abs(z.torque), 3)} vs {fmt(z.limit, 3)} N m"
-                     + (" (assumed zone)" if shown.zone_assumed else ""))] if z and z.segment >= 0 else []
-    regen = []
-    r = s.regen
-    if r is not None:
-        if r.stored is not None:
-            regen.append(Row("dc_bus_energy", "DC-bus capacitors store", r.stored, "J", digits=3, note="per event"))
-        regen += [
-            Row("resistor_energy", "braking resistor energy per cycle E_K", r.resistor_energy, "J", digits=3),
-            Row("resistor_rating", "braking resistor, rated capacity W_K", r.resistor_rating, "W", digits=3,
-                note="E_K / (0.2 T): Yaskawa's 20 % load ratio; the rating to buy"),
-            Row("resistor_power", "braking resistor, average power", r.resistor_power, "W", digits=3,
-                note="E_K / T over the cycle; not a rating"),
-            Row("resistor_peak_power", "braking resistor, peak", r.resistor_peak_power, "W", digits=3),
-        ]
-        if r.resistance_max is not None:
-            regen.append(Row("resistance_max", "resistance at most", r.resistance_max, "ohm", digits=3,
-                             note="U_chopper^2 / P_peak"))
-    gear = [Row(c.name.replace(" ", "_"), c.name, c.value, c.unit if c.unit != "rad/s" else "rad/s",
-                "rpm" if c.unit == "rad/s" else "", digits=4,
-                note=f"limit {fmt(c.limit * (30 / math.pi if c.unit == 'rad/s' else 1), 4)}"
-                     f"{' rpm' if c.unit == 'rad/s' else ' ' + c.unit}: {'ok' if c.ok else 'FAIL'}")
-            for c in s.gearbox_checks]
-    sections = [("motion", motion), ("reflected inertia, at the motor shaft", inertia),
-                (f"torque at the motor shaft ({m.name})", torque)]
-    if zone:
-        sections.append(("torque-speed zone", zone))
-    if regen:
-        sections.append(("regeneration", regen))
-    if gear:
-        sections.append(("gearbox", gear))
-    return sections, rows + torque + zone + regen + gear
-
-
 def _print(s, sections, values, title) -> None:
     from rich.table import Table
 
-    print_table(f"Motor sizing: {title}", [(name, shown(rows)) for name, rows in sections])
+    print_table(f"Motor sizing: {title}", [(sec.title, shown(sec.rows)) for sec in sections])
     out = console(140)
     if s.shown is not None and (len(s.segments) > 2 or any(g.kind == "move" and g.profile.phases[0].jerk
                                                               for g in s.segments) or len(s.segments) == 1):
@@ -518,125 +371,6 @@ def _print(s, sections, values, title) -> None:
               + (f"; given: {', '.join(given)}" if given else ""), markup=False, highlight=False)
 
 
-def _q(value, unit):
-    return quantity(None if value is None else value, unit)
-
-
-def _json(s, rows, values, inputs, warnings, scene=None) -> str:
-    obj = {r.key: _q(r.value, r.unit) for r in rows}
-    for key, unit in (("peak_torque", "N*m"), ("rms_torque", "N*m"), ("accel_time", "s"), ("accel_energy", "J"),
-                      ("accel_energy_exact", "J"), ("peak_power", "W")):
-        obj.setdefault(key, {"value": None, "unit": unit,
-                             "reason": "no motor fits, so there is no torque profile; give --motor NAME"})
-    if s.shown is None:
-        obj["inertia_ratio"] = {"value": None, "unit": "1", "reason": NO_MOTOR_RATIO}
-    obj["selected_motor"] = s.choice.selected.motor.name if s.choice.selected else None
-    obj["reported_motor"] = s.shown.motor.name if s.shown else None
-    obj["reason"] = s.choice.reason
-    obj["triangular"] = s.first_move.profile.triangular
-    obj["motors"] = [{
-        "name": c.motor.name, "peak_torque": _q(c.duty.peak_torque, "N*m"), "rms_torque": _q(c.duty.rms_torque, "N*m"),
-        "inertia_ratio": _q(c.inertia_ratio, "1"), "utilisation": _q(c.utilisation, "1"), "peak_ok": c.peak_ok,
-        "rms_ok": c.rms_ok, "speed_ok": c.speed_ok, "inertia_ok": c.inertia_ok, "zone_ok": c.zone_ok,
-        "zone_margin": _q(c.zone.margin if c.zone else None, "N*m"), "zone_assumed": c.zone_assumed,
-        "rms_limit": _q(c.continuous_limit, "N*m"), "ok": c.ok,
-    } for c in s.choice.checks]
-    if s.shown is not None:
-        d = s.shown.duty
-        obj["segments"] = [{
-            "name": g.name, "kind": g.kind, "start": _q(g.start, "s"), "duration": _q(g.duration, "s"),
-            "peak_torque": _q(g.peak_torque, "N m"), "rms_torque": _q(g.rms_torque, "N m"),
-            "peak_speed": _q(g.peak_speed, "rad/s"), "energy_motoring": _q(g.energy_motoring, "J"),
-            "energy_braking": _q(g.energy_braking, "J"),
-        } for g in d.segments]
-        obj["phases"] = [{
-            "segment": p.segment_name, "phase": p.name, "start": _q(p.start, "s"), "duration": _q(p.duration, "s"),
-            "speed0": _q(p.speed0, "rad/s"), "speed1": _q(p.speed1, "rad/s"), "torque0": _q(p.torque0, "N m"),
-            "torque1": _q(p.torque1, "N m"), "peak_torque": _q(p.peak, "N m"),
-            "extreme_torque": _q(p.extreme, "N m"), "rms_torque": _q(p.rms, "N m"),
-        } for p in d.phases]
-        obj["braking_events"] = [{"start": _q(e.start, "s"), "end": _q(e.end, "s"), "energy": _q(e.energy, "J"),
-                                  "peak_power": _q(e.peak_power, "W")} for e in d.events]
-        z = s.shown.zone
-        obj["zone"] = {
-            "assumed": s.shown.zone_assumed, "source": getattr(s.shown.motor, "zone_source", ""),
-            "points": [{"speed": _q(w, "rad/s"), "torque": _q(t, "N m")} for w, t in s.shown.zone_points],
-            "margin": _q(z.margin, "N m"), "time": _q(z.time, "s"), "speed": _q(z.speed, "rad/s"),
-            "torque": _q(z.torque, "N m"), "limit": _q(z.limit, "N m"),
-            "segment": s.segments[z.segment].name if z.segment >= 0 else None, "phase": z.phase or None,
-        }
-    obj["gearbox"] = {"name": s.drive.gearbox.name or None, "source": s.drive.gearbox.source or None,
-                      "efficiency": _q(s.drive.gearbox.efficiency, "1"),
-                      "efficiency_back": _q(s.drive.gearbox.eta_back, "1"),
-                      "checks": [{"name": c.name, "value": _q(c.value, c.unit.replace(" ", " ")),
-                                  "limit": _q(c.limit, c.unit), "ok": c.ok} for c in s.gearbox_checks]}
-    obj["assumptions"] = options_text(s.assumptions)
-    obj["notes"] = options_text(s.notes)
-    obj["jerk_limited_moves"] = [{
-        "segment": g.name, "accel_asked": _q(g.profile.accel, "rad/s^2"),
-        "accel_reached": _q(g.profile.peak_accel, "rad/s^2"),
-        "carriage_accel_asked": _q(g.profile.accel * s.axis.carriage_per_motor(), "m/s^2"),
-        "carriage_accel_reached": _q(g.profile.peak_accel * s.axis.carriage_per_motor(), "m/s^2"),
-    } for g in s.segments if _jerk_limited(g)]
-    if scene is not None:
-        obj["scene"] = scene
-    obj["inputs"] = inputs
-    obj["checks"] = checks_json(s.checks)
-    obj["warnings"] = warnings
-    return dumps(obj)
-
-
-def _profile_samples(s, per_phase: int = 21):
-    """(t, omega, omegadot, torque, power) through the cycle, 21 points per phase, its
-    ends as the right limit at the start and the left limit at the end (exact values)."""
-    from beltcalc.dutycycle import poly_value
-
-    d, out = s.shown.duty, []
-    by_phase: dict[tuple[int, float], list] = {}
-    for p in d.pieces:
-        by_phase.setdefault(p.segment, []).append(p)
-    for ph in d.phases:
-        pieces = [p for p in by_phase[ph.segment] if ph.start - 1e-12 <= p.start < ph.start + ph.duration - 1e-15]
-        for j in range(per_phase):
-            t = ph.start + ph.duration * j / (per_phase - 1)
-            piece = pieces[-1] if j == per_phase - 1 else next(
-                (p for p in pieces if p.start <= t < p.start + p.duration), pieces[-1])
-            tau = min(max(t - piece.start, 0.0), piece.duration)
-            w = poly_value(piece.w, tau)
-            wd = piece.w[1] + 2 * piece.w[2] * tau
-            tq = poly_value(piece.torque, tau)
-            out.append((t, w, wd, tq, tq * w))
-    return out
-
-
-def _profile_csv(s) -> str:
-    if s.shown is None:
-        raise InputError("no motor fits, so there is no torque profile to write; give --motor NAME", param="csv")
-    return table_csv(["t_s", "speed_rad_per_s", "accel_rad_per_s2", "torque_N_m", "power_W"],
-                     ([repr(v) for v in row] for row in _profile_samples(s)))
-
-
-def _zone_plot_data(s) -> dict:
-    """What the torque-speed panel draws, in rpm and N m: the cycle's points (|omega|, |T|)
-    (21 per phase, both limits at the phase ends), the intermittent zone (the catalog's, or
-    the assumed one), the continuous zone (the catalog's, else T_n flat to the rated speed:
-    the RMS limit), the RMS torque at the mean speed and the point of the smallest margin."""
-    c, m = s.shown, s.shown.motor
-    rpm = 30 / math.pi
-    samples = _profile_samples(s)
-    cont = tuple(getattr(m, "continuous", ()))
-    z = c.zone
-    return {
-        "points": [(abs(w) * rpm, abs(tq)) for _, w, _, tq, _ in samples],
-        "intermittent": [(w * rpm, tq) for w, tq in c.zone_points],
-        "intermittent_assumed": c.zone_assumed,
-        "continuous": [(w * rpm, tq) for w, tq in cont] if cont else [(0.0, m.T_n), (m.n_rated * rpm, m.T_n)],
-        "continuous_from_catalog": bool(cont),
-        "rms": (c.duty.mean_speed * rpm, c.duty.rms_torque),
-        "worst": (z.speed * rpm, abs(z.torque)) if z is not None else None,
-    }
-
-
 def _plot_profile(s, path) -> None:
     """Torque and speed over the cycle (left) and the cycle's points over the motor's
     torque-speed zones (right); matplotlib is imported here only."""
@@ -646,7 +380,7 @@ def _plot_profile(s, path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    data = list(zip(*_profile_samples(s)))
+    data = list(zip(*profile_samples(s)))
     m = s.shown.motor
     fig = plt.figure(figsize=(12, 6))
     grid = fig.add_gridspec(2, 2, width_ratios=(3, 2))
@@ -662,7 +396,7 @@ def _plot_profile(s, path) -> None:
     a2.plot(data[0], [w * 30 / math.pi for w in data[1]])
     a2.set_ylabel("motor speed [rpm]")
     a2.set_xlabel("time [s]")
-    zone = _zone_plot_data(s)
+    zone = zone_plot_data(s)
     for key, color, alpha, label in (
             ("intermittent", "tab:orange", 0.15, "intermittent zone" + (" (assumed)" if zone["intermittent_assumed"]
                                                                          else "")),
@@ -690,36 +424,18 @@ def _plot_profile(s, path) -> None:
 _SWEEP_DISPLAY = {"rad/s^2": "rad/s^2", "m/s^2": "m/s^2", "rad/s": "rpm", "m/s": "m/s"}
 
 
-SWEEP_COLUMNS = (("motor_speed_rad_per_s", "peak motor speed", "rad/s"),
-                 ("motor_accel_rad_per_s2", "motor acceleration", "rad/s^2"),
-                 ("peak_torque_N_m", "peak torque", "N*m"), ("accel_time_s", "acceleration time t_a", "s"),
-                 ("accel_energy_J", "energy E = T_max w_max t_a (eq. 29)", "J"),
-                 ("accel_energy_exact_J", "energy, integral T w dt", "J"), ("rms_torque_N_m", "RMS torque", "N*m"),
-                 ("triangular", "triangular profile", ""))
-
-
-def _render_sweep(name, unit, rows, motor, peak_margin, as_json, csv_path, plot_path, strict) -> None:
+def _render_sweep(name, unit, points, motor, peak_margin, as_json, csv_path, plot_path, strict) -> None:
     """The sweep in the one sweep schema of every command (parameters, columns, rows,
-    failed_checks, warnings); each point's duty checked against the motor's ratings."""
+    failed_checks, warnings); each point's duty checked against the motor's ratings
+    (:func:`beltcalc.design.motor_report.sweep_table`)."""
     from beltcalc.checks import failures
-    from beltcalc.motors import rating_checks
 
-    key = f"{name}_{unit.replace('/', '_per_').replace('^', '')}"
-    header = [key] + [k for k, _, _ in SWEEP_COLUMNS]
-    table = [(r.value, r.profile.peak_speed, r.profile.accel, r.peak_torque, r.accel_time, r.accel_energy,
-              r.accel_energy_exact, r.rms_torque, r.profile.triangular) for r in rows]
-    point_checks = [rating_checks(motor, r.peak_torque, r.rms_torque, r.profile.peak_speed, peak_margin)
-                    if motor else [] for r in rows]
-    failed = [(r.value, failures(cs)) for r, cs in zip(rows, point_checks) if failures(cs)]
-    warnings = []
-    for k in dict.fromkeys(c.key for _, cs in failed for c in cs):
-        at = [(v, c) for v, cs in failed for c in cs if c.key == k]
-        where = ", ".join(f"{v:.6g}" for v, _ in at[:5]) + (", ..." if len(at) > 5 else "")
-        warnings.append(f"{at[0][1].warning()} (at {len(at)} of {len(rows)} points: {name} = {where} {unit})")
-    warnings = options_text(warnings)
+    st = sweep_table(name, unit, points, motor, peak_margin)
+    table, point_checks = st.rows, st.point_checks
+    warnings = options_text(st.warnings)
     emit_warnings(warnings, [c for cs in point_checks for c in cs], strict)
     if csv_path is not None:
-        write_atomic(csv_path, table_csv(header, ([repr(x) for x in r] for r in table)))
+        write_atomic(csv_path, table_csv(st.header, ([repr(x) for x in r] for r in table)))
         wrote(csv_path)
     if plot_path is not None:
         _plot_sweep(name, unit, table, motor, plot_path)
@@ -729,10 +445,11 @@ def _render_sweep(name, unit, rows, motor, peak_margin, as_json, csv_path, plot_
         click.echo(dumps({
             "command": "motor-size", "study": "sweep", "motor": motor.name if motor else None,
             "parameters": [{"name": name, "unit": unit, "values": [r[0] for r in table]}],
-            "columns": [{"key": key, "label": name, "unit": unit}]
+            "columns": [{"key": st.key, "label": name, "unit": unit}]
                        + [{"key": k, "label": lab, "unit": u} for k, lab, u in SWEEP_COLUMNS],
             "rows": table,
-            "failed_checks": [{"point": {"value": v, "unit": unit}, "checks": checks_json(cs)} for v, cs in failed],
+            "failed_checks": [{"point": {"value": v, "unit": unit}, "checks": checks_json(cs)}
+                              for v, cs in st.failed],
             "warnings": warnings}))
         return
     from beltcalc.units import convert

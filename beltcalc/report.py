@@ -8,7 +8,38 @@ them directly.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+# A JSON value that is not a finite number: null, and why.
+BEYOND = "beyond the range of a float: an input is out of a physical range"
+
+
+def format_number(value: float, digits: int = 4) -> str:
+    """``digits`` significant digits, plain decimals from 1e-4 to 1e7, integers as integers
+    ('-' for a value that is not a finite number): how tables print numbers.
+
+    >>> format_number(13.004, 3), format_number(350000.0), format_number(0.073), format_number(16.0)
+    ('13.0', '350000', '0.07300', '16')
+    >>> format_number(None), format_number(2e-9)
+    ('-', '2.0000e-09')
+    """
+    if value is None or not math.isfinite(value):
+        return "-"
+    if value == int(value) and abs(value) < 1e7:
+        return str(int(value))
+    mag = math.floor(math.log10(abs(value)))
+    if -4 <= mag < 7:
+        return f"{value:.{max(digits - 1 - mag, 0)}f}"
+    return f"{value:.{digits}g}"
+
+
+def quantity(value, unit: str) -> dict:
+    """``{"value", "unit"}`` of a JSON object; a value that is not a finite number is null with
+    the reason."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return {"value": None, "unit": unit, "reason": BEYOND}
+    return {"value": value, "unit": unit}
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from click.core import ParameterSource
 from beltcalc.cli.main import option_name
 from beltcalc.checks import figure
 from beltcalc.errors import render
-from beltcalc.report import Row
+from beltcalc.report import BEYOND, Row, format_number, quantity  # noqa: F401  (quantity: the CLI's too)
 
 # Options that are how to report, not what to compute.
 NOT_INPUTS = frozenset({"as_json", "csv_path", "plot_path", "strict", "catalog_paths"})
@@ -150,16 +150,6 @@ def out_of_range(ctx: click.Context):
         raise InputError(f"{what} with these inputs; one of {names} is out of a physical range") from None
 
 
-BEYOND = "beyond the range of a float: an input is out of a physical range"
-
-
-def quantity(value, unit: str) -> dict:
-    """``{"value", "unit"}``; a value that is not a finite number is null with the reason."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return {"value": None, "unit": unit, "reason": BEYOND}
-    return {"value": value, "unit": unit}
-
-
 def shown(rows) -> list[Row]:
     """``rows`` with every value that is not a finite number (also once converted to its
     display unit: 1e308 m is infinite in mm) shown as '-' and said why in its note."""
@@ -181,9 +171,5 @@ def shown(rows) -> list[Row]:
 
 
 def fmt(value, digits: int = 4) -> str:
-    """:func:`~beltcalc.cli.output.format_number`, with '-' for a value that is not a finite number."""
-    from beltcalc.cli.output import format_number
-
-    if value is None or not math.isfinite(value):
-        return "-"
+    """:func:`beltcalc.report.format_number` ('-' for a value that is not a finite number)."""
     return format_number(value, digits)

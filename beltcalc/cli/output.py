@@ -21,7 +21,7 @@ import click
 
 from beltcalc.cli.writer import STALE_TMP_AGE, announce, write_file
 from beltcalc.errors import OutputError
-from beltcalc.report import Row
+from beltcalc.report import Row, format_number  # noqa: F401  (format_number: the CLI's too)
 
 write_atomic = write_file     # the name the commands use: every file goes through the one writer
 
@@ -128,22 +128,6 @@ def _factor(row: Row) -> bool:
         return False
     shown = value * 100
     return not math.isfinite(shown) or abs(float(format_number(shown, row.digits))) > PERCENT_MAX
-
-
-def format_number(value: float, digits: int = 4) -> str:
-    """``digits`` significant digits, plain decimals from 1e-4 to 1e7, integers as integers.
-
-    >>> format_number(13.004, 3), format_number(350000.0), format_number(0.073), format_number(16.0)
-    ('13.0', '350000', '0.07300', '16')
-    """
-    if not math.isfinite(value):
-        return "-"
-    if value == int(value) and abs(value) < 1e7:
-        return str(int(value))
-    mag = math.floor(math.log10(abs(value)))
-    if -4 <= mag < 7:
-        return f"{value:.{max(digits - 1 - mag, 0)}f}"
-    return f"{value:.{digits}g}"
 
 
 def display_unit(row: Row) -> str:

@@ -20,7 +20,7 @@ from typing import Callable, Sequence
 
 from beltcalc.checks import Check, failures, percent
 from beltcalc.errors import render
-from beltcalc.report import Row, Section
+from beltcalc.report import Row, Section, format_number, quantity
 
 
 def _same(name: str) -> str:
@@ -33,34 +33,6 @@ NO_MOTOR_RATIO = "no motor fits, so there is no rotor inertia to divide by; give
 
 # A torque profile needs a motor: its rotor and its losses are part of the torque.
 NO_PROFILE = "no motor fits, so there is no torque profile; give `motor` NAME"
-
-# A JSON value that is not a finite number: null, and why.
-BEYOND = "beyond the range of a float: an input is out of a physical range"
-
-
-def _fmt(value, digits: int = 4) -> str:
-    """``digits`` significant digits, plain decimals from 1e-4 to 1e7, integers as integers,
-    '-' for a value that is not a finite number (the command line's tables print numbers so).
-
-    >>> _fmt(13.004, 3), _fmt(350000.0), _fmt(0.073), _fmt(16.0), _fmt(None), _fmt(2e-9)
-    ('13.0', '350000', '0.07300', '16', '-', '2.0000e-09')
-    """
-    if value is None or not math.isfinite(value):
-        return "-"
-    if value == int(value) and abs(value) < 1e7:
-        return str(int(value))
-    mag = math.floor(math.log10(abs(value)))
-    if -4 <= mag < 7:
-        return f"{value:.{max(digits - 1 - mag, 0)}f}"
-    return f"{value:.{digits}g}"
-
-
-def _q(value, unit: str) -> dict:
-    """``{"value", "unit"}``; a value that is not a finite number is null with the reason."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return {"value": None, "unit": unit, "reason": BEYOND}
-    return {"value": value, "unit": unit}
-
 
 def _rpm(w: float) -> str:
     return f"{w * 30 / math.pi:.0f} rpm"
@@ -114,9 +86,9 @@ def report_sections(s, name: Callable[[str], str] = _same) -> list[Section]:
             note="triangular: speed not reached" if single and prof.triangular else ""),
         Row("carriage_speed", "peak carriage speed", peak_speed * k, "m/s"),
         Row("motor_accel", "motor acceleration" + ("" if single else " (first move)"), accel, "rad/s^2",
-            note=f"the jerk limits it: {_fmt(prof.accel, 4)} rad/s^2 asked" if limited else ""),
+            note=f"the jerk limits it: {format_number(prof.accel, 4)} rad/s^2 asked" if limited else ""),
         Row("carriage_accel", "carriage acceleration" + ("" if single else " (first move)"), accel * k, "m/s^2",
-            note=f"the jerk limits it: {_fmt(prof.accel * k, 4)} m/s^2 asked" if limited else ""),
+            note=f"the jerk limits it: {format_number(prof.accel * k, 4)} m/s^2 asked" if limited else ""),
     ]
     if math.isfinite(getattr(prof, "jerk", math.inf)):
         motion.append(Row("motor_jerk", "motor jerk limit" + ("" if single else " (first move)"), prof.jerk,
@@ -148,14 +120,14 @@ def report_sections(s, name: Callable[[str], str] = _same) -> list[Section]:
     if single:
         # each phase at its peak, signed (the largest |T| over the phase), then its start -> end
         torque += [Row(f"torque_{p.name}", f"{p.name} ({p.duration:.3g} s)", p.extreme, "N m", digits=3,
-                       note=f"peak; {_fmt(p.torque0, 3)} -> {_fmt(p.torque1, 3)} N m")
+                       note=f"peak; {format_number(p.torque0, 3)} -> {format_number(p.torque1, 3)} N m")
                    for p in d.phases]
     t_a, e29, exact = first_move_energy(s)
     m = shown.motor
     torque += [
         Row("peak_torque", "peak torque", d.peak_torque, "N m", digits=3, note=f"T_max {m.T_max:g} N m"),
         Row("rms_torque", "RMS torque", d.rms_torque, "N m", digits=3,
-            note=f"limit {_fmt(shown.continuous_limit, 3)} N m: {percent(shown.utilisation)} of T_n"),
+            note=f"limit {format_number(shown.continuous_limit, 3)} N m: {percent(shown.utilisation)} of T_n"),
         Row("mean_speed", "mean speed", d.mean_speed, "rad/s", "rpm", note=f"rated {_rpm(m.n_rated)}"),
         Row("peak_power", "peak power", d.peak_power, "W", digits=3),
         Row("holding_torque", "holding torque at rest", d.holding_torque, "N m", digits=3),
@@ -174,14 +146,14 @@ def report_sections(s, name: Callable[[str], str] = _same) -> list[Section]:
         sections.append(Section(("zone",), "torque-speed zone", [
             Row("zone_margin", "smallest margin to the peak zone", z.margin, "N m", digits=3,
                 note=f"{s.segments[z.segment].name}/{z.phase}, t = {z.time:.4g} s, {_rpm(z.speed)}: "
-                     f"|T| {_fmt(abs(z.torque), 3)} vs {_fmt(z.limit, 3)} N m"
+                     f"|T| {format_number(abs(z.torque), 3)} vs {format_number(z.limit, 3)} N m"
                      + (" (assumed zone)" if shown.zone_assumed else ""))]))
     regen = _regen_rows(s.regen)
     if regen:
         sections.append(Section(("regeneration",), "regeneration", regen))
     gear = [Row(c.name.replace(" ", "_"), c.name, c.value, c.unit if c.unit != "rad/s" else "rad/s",
                 "rpm" if c.unit == "rad/s" else "", digits=4,
-                note=f"limit {_fmt(c.limit * (30 / math.pi if c.unit == 'rad/s' else 1), 4)}"
+                note=f"limit {format_number(c.limit * (30 / math.pi if c.unit == 'rad/s' else 1), 4)}"
                      f"{' rpm' if c.unit == 'rad/s' else ' ' + c.unit}: {'ok' if c.ok else 'FAIL'}")
             for c in s.gearbox_checks]
     if gear:
@@ -219,7 +191,7 @@ def report_dict(s, sections: Sequence[Section], name: Callable[[str], str] = _sa
     the reported motor, every motor's checks, and of the reported motor the segments, the
     phases, the braking events and the zone; the gearbox, the assumptions, the notes and the
     jerk-limited moves."""
-    obj = {r.key: _q(r.value, r.unit) for sec in sections for r in sec.rows}
+    obj = {r.key: quantity(r.value, r.unit) for sec in sections for r in sec.rows}
     for key, unit in (("peak_torque", "N*m"), ("rms_torque", "N*m"), ("accel_time", "s"), ("accel_energy", "J"),
                       ("accel_energy_exact", "J"), ("peak_power", "W")):
         obj.setdefault(key, {"value": None, "unit": unit, "reason": render(NO_PROFILE, name)})
@@ -230,48 +202,48 @@ def report_dict(s, sections: Sequence[Section], name: Callable[[str], str] = _sa
     obj["reason"] = s.choice.reason
     obj["triangular"] = s.first_move.profile.triangular
     obj["motors"] = [{
-        "name": c.motor.name, "peak_torque": _q(c.duty.peak_torque, "N*m"), "rms_torque": _q(c.duty.rms_torque, "N*m"),
-        "inertia_ratio": _q(c.inertia_ratio, "1"), "utilisation": _q(c.utilisation, "1"), "peak_ok": c.peak_ok,
+        "name": c.motor.name, "peak_torque": quantity(c.duty.peak_torque, "N*m"), "rms_torque": quantity(c.duty.rms_torque, "N*m"),
+        "inertia_ratio": quantity(c.inertia_ratio, "1"), "utilisation": quantity(c.utilisation, "1"), "peak_ok": c.peak_ok,
         "rms_ok": c.rms_ok, "speed_ok": c.speed_ok, "inertia_ok": c.inertia_ok, "zone_ok": c.zone_ok,
-        "zone_margin": _q(c.zone.margin if c.zone else None, "N*m"), "zone_assumed": c.zone_assumed,
-        "rms_limit": _q(c.continuous_limit, "N*m"), "ok": c.ok,
+        "zone_margin": quantity(c.zone.margin if c.zone else None, "N*m"), "zone_assumed": c.zone_assumed,
+        "rms_limit": quantity(c.continuous_limit, "N*m"), "ok": c.ok,
     } for c in s.choice.checks]
     if s.shown is not None:
         d = s.shown.duty
         obj["segments"] = [{
-            "name": g.name, "kind": g.kind, "start": _q(g.start, "s"), "duration": _q(g.duration, "s"),
-            "peak_torque": _q(g.peak_torque, "N m"), "rms_torque": _q(g.rms_torque, "N m"),
-            "peak_speed": _q(g.peak_speed, "rad/s"), "energy_motoring": _q(g.energy_motoring, "J"),
-            "energy_braking": _q(g.energy_braking, "J"),
+            "name": g.name, "kind": g.kind, "start": quantity(g.start, "s"), "duration": quantity(g.duration, "s"),
+            "peak_torque": quantity(g.peak_torque, "N m"), "rms_torque": quantity(g.rms_torque, "N m"),
+            "peak_speed": quantity(g.peak_speed, "rad/s"), "energy_motoring": quantity(g.energy_motoring, "J"),
+            "energy_braking": quantity(g.energy_braking, "J"),
         } for g in d.segments]
         obj["phases"] = [{
-            "segment": p.segment_name, "phase": p.name, "start": _q(p.start, "s"), "duration": _q(p.duration, "s"),
-            "speed0": _q(p.speed0, "rad/s"), "speed1": _q(p.speed1, "rad/s"), "torque0": _q(p.torque0, "N m"),
-            "torque1": _q(p.torque1, "N m"), "peak_torque": _q(p.peak, "N m"),
-            "extreme_torque": _q(p.extreme, "N m"), "rms_torque": _q(p.rms, "N m"),
+            "segment": p.segment_name, "phase": p.name, "start": quantity(p.start, "s"), "duration": quantity(p.duration, "s"),
+            "speed0": quantity(p.speed0, "rad/s"), "speed1": quantity(p.speed1, "rad/s"), "torque0": quantity(p.torque0, "N m"),
+            "torque1": quantity(p.torque1, "N m"), "peak_torque": quantity(p.peak, "N m"),
+            "extreme_torque": quantity(p.extreme, "N m"), "rms_torque": quantity(p.rms, "N m"),
         } for p in d.phases]
-        obj["braking_events"] = [{"start": _q(e.start, "s"), "end": _q(e.end, "s"), "energy": _q(e.energy, "J"),
-                                  "peak_power": _q(e.peak_power, "W")} for e in d.events]
+        obj["braking_events"] = [{"start": quantity(e.start, "s"), "end": quantity(e.end, "s"), "energy": quantity(e.energy, "J"),
+                                  "peak_power": quantity(e.peak_power, "W")} for e in d.events]
         z = s.shown.zone
         obj["zone"] = {
             "assumed": s.shown.zone_assumed, "source": getattr(s.shown.motor, "zone_source", ""),
-            "points": [{"speed": _q(w, "rad/s"), "torque": _q(t, "N m")} for w, t in s.shown.zone_points],
-            "margin": _q(z.margin, "N m"), "time": _q(z.time, "s"), "speed": _q(z.speed, "rad/s"),
-            "torque": _q(z.torque, "N m"), "limit": _q(z.limit, "N m"),
+            "points": [{"speed": quantity(w, "rad/s"), "torque": quantity(t, "N m")} for w, t in s.shown.zone_points],
+            "margin": quantity(z.margin, "N m"), "time": quantity(z.time, "s"), "speed": quantity(z.speed, "rad/s"),
+            "torque": quantity(z.torque, "N m"), "limit": quantity(z.limit, "N m"),
             "segment": s.segments[z.segment].name if z.segment >= 0 else None, "phase": z.phase or None,
         }
     obj["gearbox"] = {"name": s.drive.gearbox.name or None, "source": s.drive.gearbox.source or None,
-                      "efficiency": _q(s.drive.gearbox.efficiency, "1"),
-                      "efficiency_back": _q(s.drive.gearbox.eta_back, "1"),
-                      "checks": [{"name": c.name, "value": _q(c.value, c.unit),
-                                  "limit": _q(c.limit, c.unit), "ok": c.ok} for c in s.gearbox_checks]}
+                      "efficiency": quantity(s.drive.gearbox.efficiency, "1"),
+                      "efficiency_back": quantity(s.drive.gearbox.eta_back, "1"),
+                      "checks": [{"name": c.name, "value": quantity(c.value, c.unit),
+                                  "limit": quantity(c.limit, c.unit), "ok": c.ok} for c in s.gearbox_checks]}
     obj["assumptions"] = [render(a, name) for a in s.assumptions]
     obj["notes"] = [render(n, name) for n in s.notes]
     obj["jerk_limited_moves"] = [{
-        "segment": g.name, "accel_asked": _q(g.profile.accel, "rad/s^2"),
-        "accel_reached": _q(g.profile.peak_accel, "rad/s^2"),
-        "carriage_accel_asked": _q(g.profile.accel * s.axis.carriage_per_motor(), "m/s^2"),
-        "carriage_accel_reached": _q(g.profile.peak_accel * s.axis.carriage_per_motor(), "m/s^2"),
+        "segment": g.name, "accel_asked": quantity(g.profile.accel, "rad/s^2"),
+        "accel_reached": quantity(g.profile.peak_accel, "rad/s^2"),
+        "carriage_accel_asked": quantity(g.profile.accel * s.axis.carriage_per_motor(), "m/s^2"),
+        "carriage_accel_reached": quantity(g.profile.peak_accel * s.axis.carriage_per_motor(), "m/s^2"),
     } for g in s.segments if _jerk_limited(g)]
     return obj
 

@@ -26,7 +26,9 @@ of each strand pattern, the equations assembled there from the drive's component
 tension-only strands switched by terminal events written there; see its docstring):
 
 1. roller table, 3 rollers: ``roller3.json/.npz`` (Radau, rtol 1e-11 and 1e-10, events),
-   through the scene and through its drive file. 50 rollers: structural checks that can fail
+   through the scene and through its drive file; 30 rollers sharing the load: ``roller30``
+   (Radau on ``roller30.toml``, the drive the scene builds, 40 minutes to make). 50 rollers:
+   structural checks that can fail
    (exit 0; roller means at 3001 and 12001 samples agree to 1e-6 of the speed; the motor's
    momentum balance over the window, inertias by hand; strand forces >= 0); 200 rollers: one
    shorter run, the same checks but the sample counts (``many_args``: the three rollers' load
@@ -620,6 +622,26 @@ def test_50_rollers_sample_counts_balance_and_tension_only(tmp_path):
     other = beltcalc_json("simulate", "roller-table", *many_args(50, 12001, t_end=2.0, load_start=0.6, window=1.2))
     csv = read_csv(path, _many_columns(50) + _strand_columns(path))
     many_rollers(run, csv, other, "50 rollers")
+
+
+@pytest.mark.slow
+def test_30_rollers_against_radau_with_events(tmp_path):
+    # Reference: roller30 (Radau rtol 1e-11, events, on roller30.toml: the drive the scene builds
+    # at 30 rollers sharing the three rollers' load; 121 nodes, 243 states). Every roller's means
+    # and amplitudes, every strand's extremes, the motor, and the CSV at the stored times, each to
+    # the run's own estimate.
+    doc, arrays = load_reference("roller30")
+    meta = doc["meta"]
+    run, path = roller_run(tmp_path, *many_args(30, meta["samples"], t_end=meta["t_end_s"],
+                                                load_start=meta["load_start_s"], window=meta["window_s"]))
+    inputs = run["inputs"]
+    assert val(inputs["rollers"]) == 30 and val(inputs["roller_load"]) == pytest.approx(meta["roller_load_N_m"],
+                                                                                        rel=1e-15)
+    assert run["method"] == "exact"
+    strands = list(run["strands"])
+    assert len(strands) == 2 * 30
+    csv = read_csv(path, _roller_columns(30, strands))
+    compare_roller_table(run, doc, arrays, csv, "roller table, 30 rollers", n_rollers=30, strands=strands)
 
 
 @pytest.mark.slow

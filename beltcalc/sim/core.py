@@ -79,10 +79,11 @@ def _second(network: Network, t, x0, cfg, watch) -> Figures:
 def _beside(work):
     """``work()`` started in a forked process where it can run beside this one: a second CPU
     this process may use, the main thread of a process that is not itself a worker, and a
-    platform that forks; returns a call that waits for its value (its ``cancel`` stops the
-    child). Where any of these is
-    missing, or the child fails in any way (its exception does not travel), the call computes
-    ``work()`` here: the same computation, the same value, later."""
+    platform that forks. Returns a call that waits for its value (its ``cancel`` stops the
+    child). Where any of these is missing, or the child fails in any way (its exception does
+    not travel), the call computes ``work()`` here: the same computation, the same value,
+    later. (multiprocessing flushes stdout and stderr before it forks: nothing buffered is
+    written twice.)"""
     import os
     import threading
 

@@ -128,7 +128,7 @@ def test_polish_steps_by_cells_matches_the_search_on_the_whole_step():
     # a sparse run's candidate steps: Newton around the best of COARSE points, then the full
     # search only in the cells whose coarse values plus the rise bound still reach what it
     # found; the same maximum as the search on the whole step (the reference above)
-    from beltcalc.sim.watch.polish import COARSE, polish_steps
+    from beltcalc.sim.watch.polish import COARSE, cell_rises, polish_steps
 
     rng = np.random.default_rng(11)
     C = taylor_like(rng, 80)
@@ -137,12 +137,40 @@ def test_polish_steps_by_cells_matches_the_search_on_the_whole_step():
     s_c = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, COARSE)[None, :]
     y = np.array([np.polynomial.Polynomial(c)(s) for c, s in zip(C, s_c)])
     j = np.arange(C.shape[1])
-    rise = (np.abs(C) @ (j * (j - 1.0))) * ((b - a) / (COARSE - 1)) ** 2 / 8
-    best = np.full(80, -np.inf)
-    polish_steps(best, np.arange(80), C, s_c, y, rise, a, b)
     want = np.array([reference_max(C[r], a[r], b[r]) for r in range(80)])
     scale = np.abs(C).sum(axis=1)
-    assert_allclose(best / scale, want / scale, rtol=0, atol=1e-14)
+    # one rise per step (the coefficients' bound) or one per cell (cell_rises)
+    for rise in ((np.abs(C) @ (j * (j - 1.0))) * ((b - a) / (COARSE - 1)) ** 2 / 8, cell_rises(C, s_c)):
+        best = np.full(80, -np.inf)
+        polish_steps(best, np.arange(80), C, s_c, y, rise, a, b)
+        assert_allclose(best / scale, want / scale, rtol=0, atol=1e-14)
+
+
+def test_cell_rises_bound_every_cell_and_stay_close_to_the_curvature():
+    # the per-cell bound of how far a step's polynomial rises above a cell's ends, from its
+    # Taylor shift to the cell's midpoint: never below the true rise (read on 2001 points a
+    # cell), and within four times the true max |p''| d^2 / 8 (the bound from the step's own
+    # coefficients is tens of times larger on the longer steps of an estimate's second run)
+    from beltcalc.sim.watch.polish import COARSE, cell_rises
+
+    rng = np.random.default_rng(5)
+    j = np.arange(TERMS)
+    for stretch in (1.0, 1.5):
+        C = taylor_like(rng, 60) * stretch ** j
+        a = np.zeros(60)
+        b = rng.uniform(0.3, 1.0, 60)
+        s_c = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, COARSE)[None, :]
+        rises = cell_rises(C, s_c)
+        assert rises.shape == (60, COARSE - 1)
+        for r in range(60):
+            p = np.polynomial.Polynomial(C[r])
+            d2 = p.deriv(2)
+            for k in range(COARSE - 1):
+                s = np.linspace(s_c[r, k], s_c[r, k + 1], 2001)
+                above = float(p(s).max()) - max(p(s_c[r, k]), p(s_c[r, k + 1]))
+                assert max(above - rises[r, k], 0.0) == pytest.approx(0.0, abs=1e-13 * np.abs(C[r]).sum())
+                tight = float(np.abs(d2(s)).max()) * (s_c[r, k + 1] - s_c[r, k]) ** 2 / 8
+                assert rises[r, k] == pytest.approx(tight, rel=3.0)
 
 
 def test_pending_steps_keep_only_what_may_hold_the_extreme():
@@ -154,9 +182,10 @@ def test_pending_steps_keep_only_what_may_hold_the_extreme():
     rng = np.random.default_rng(2)
     who = np.array([0, 1, 1, 2])
     bound = np.array([5.0, 1.0, 3.0, -1.0])
-    store.add(who, bound, rng.normal(size=(4, 7)), rng.normal(size=(4, COARSE)), np.ones(4), np.zeros(4), np.ones(4))
+    store.add(who, bound, rng.normal(size=(4, 7)), rng.normal(size=(4, COARSE)), np.ones((4, COARSE - 1)),
+              np.zeros(4), np.ones(4))
     store.add(np.array([2]), np.array([0.5]), rng.normal(size=(1, 9)), rng.normal(size=(1, COARSE)),
-              np.ones(1), np.zeros(1), np.ones(1))
+              np.ones((1, COARSE - 1)), np.zeros(1), np.ones(1))
     store.prune(np.array([4.0, 2.0, 0.0]))
     kept_who, kept_bound, C, *_ = store.rows()
     assert kept_who.tolist() == [0, 1, 2] and kept_bound.tolist() == [5.0, 3.0, 0.5]

@@ -33,8 +33,8 @@ import math
 import numpy as np
 
 from beltcalc.numerics.expm import expm
-from beltcalc.sim.watch.polish import (COARSE, GRID, PendingSteps, horner_rows, polish_polynomials, trim_terms,
-                                       zoom_max)
+from beltcalc.sim.watch.polish import (COARSE, GRID, PendingSteps, cell_rises, horner_rows, polish_polynomials,
+                                       trim_terms, zoom_max)
 from beltcalc.sim.propagate import orbit
 from beltcalc.sim.switching import SPARSE_SIZE
 
@@ -359,7 +359,13 @@ class Watch:
             # a rise below rounding of its values: known to rounding at its coarse points
             go = np.flatnonzero((b > a) & (top + rise >= best[who]) & (rise > FLAT * np.abs(top)))
             if go.size:
-                pending.add(who[go], top[go] + rise[go], C[go], y[go], rise[go], a[go], b[go])
+                # the steps that pass this coarse bound: each cell's own (cell_rises)
+                cells = cell_rises(C[go], s_c[go])
+                reach = (np.maximum(y[go, :-1], y[go, 1:]) + cells).max(axis=1)
+                keep = (reach >= best[who[go]]) & (cells.max(axis=1) > FLAT * np.abs(top[go]))
+                go, cells, reach = go[keep], cells[keep], reach[keep]
+            if go.size:
+                pending.add(who[go], reach, C[go], y[go], cells, a[go], b[go])
         if pending.full():
             pending.prune(best)
             if pending.crowded():          # still half full of steps that may hold the extreme

@@ -11,6 +11,8 @@ point; every step is an array operation over all the rows.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 GRID = 257           # points per refinement interval before the local optimum is polished
@@ -18,24 +20,27 @@ COARSE = 9           # points per step at which a sparse mode's candidate polyno
 PENDING_FLOATS = 2e6   # a sparse mode's candidate steps held for their polish, per window and side
 NEWTON = 12          # safeguarded Newton steps of the vectorised polish
 NEWTON_DONE = 1e-9   # ... a row done once a step moves it by at most this (of the unit step)
+SHIFT_EXACT = 8      # a cell's curvature bound: its midpoint's Taylor terms below this order exact
+WIDTH = 2 * COARSE + 2  # a pending step's figures: bound, a, b, coarse values, the cells' rises
 
 
 class PendingSteps:
     """A sparse mode's candidate steps of one window and side that wait for their polish: per
-    step its signal, the bound of its polynomial's maximum (its coarse best plus the most it can
-    rise between them), its coefficients (zero-padded to the widest mode's terms), its coarse
-    values, its rise and its interval [a, b]. Rows whose bound falls below their signal's best
+    step its signal, the bound of its polynomial's maximum (over its COARSE - 1 cells, a cell's
+    larger end value plus the most it can rise there), its coefficients (zero-padded to the
+    widest mode's terms), its coarse values, its cells' rises and its interval [a, b]. Rows whose bound falls below their signal's best
     are dropped (:meth:`prune`): they cannot hold the extreme."""
 
     def __init__(self):
         self.n, self.cap, self.T = 0, 0, 0
         self.who = np.zeros(0, dtype=np.int64)
-        self.meta = np.zeros((0, COARSE + 4))     # bound, rise, a, b, coarse values
+        self.meta = np.zeros((0, WIDTH))     # bound, a, b, coarse values, the cells' rises
         self.C = np.zeros((0, 0))
 
     def add(self, who, bound, C, y, rise, a, b) -> None:
         """Hold the steps given: signals ``who``, bounds, coefficients C (steps, terms), coarse
-        values y, rises and intervals [a, b]; the store grows (doubling) as needed."""
+        values y, the cells' rises (steps, COARSE - 1) and intervals [a, b]; the store grows
+        (doubling) as needed."""
         k, T = who.size, max(self.T, C.shape[1])
         if self.n + k > self.cap or T > self.T:
             cap = max(2 * self.cap, self.n + k, 64)
@@ -43,14 +48,15 @@ class PendingSteps:
             grown[:self.n, :self.T] = self.C[:self.n]
             self.C, self.T = grown, T
             self.who = np.concatenate([self.who[:self.n], np.zeros(cap - self.n, dtype=np.int64)])
-            self.meta = np.vstack([self.meta[:self.n], np.zeros((cap - self.n, COARSE + 4))])
+            self.meta = np.vstack([self.meta[:self.n], np.zeros((cap - self.n, WIDTH))])
             self.cap = cap
         rows = slice(self.n, self.n + k)
         self.who[rows] = who
         self.C[rows, :C.shape[1]] = C
         self.C[rows, C.shape[1]:] = 0.0
-        self.meta[rows, 0], self.meta[rows, 1], self.meta[rows, 2], self.meta[rows, 3] = bound, rise, a, b
-        self.meta[rows, 4:] = y
+        self.meta[rows, 0], self.meta[rows, 1], self.meta[rows, 2] = bound, a, b
+        self.meta[rows, 3:3 + COARSE] = y
+        self.meta[rows, 3 + COARSE:] = rise
         self.n += k
 
     def prune(self, best: np.ndarray) -> None:
@@ -63,16 +69,16 @@ class PendingSteps:
 
     def full(self) -> bool:
         """Whether the rows held take more than PENDING_FLOATS."""
-        return self.n * (self.T + COARSE + 5) > PENDING_FLOATS
+        return self.n * (self.T + WIDTH + 1) > PENDING_FLOATS
 
     def crowded(self) -> bool:
         """Whether the rows held take more than half of PENDING_FLOATS."""
-        return 2 * self.n * (self.T + COARSE + 5) > PENDING_FLOATS
+        return 2 * self.n * (self.T + WIDTH + 1) > PENDING_FLOATS
 
     def rows(self):
-        """(who, bound, C, y, rise, a, b) of the rows held."""
+        """(who, bound, C, y, rise, a, b) of the rows held (rise: per cell)."""
         n, m = self.n, self.meta
-        return self.who[:n], m[:n, 0], self.C[:n], m[:n, 4:], m[:n, 1], m[:n, 2], m[:n, 3]
+        return self.who[:n], m[:n, 0], self.C[:n], m[:n, 3:3 + COARSE], m[:n, 3 + COARSE:], m[:n, 1], m[:n, 2]
 
     def clear(self) -> None:
         """Drop every row."""
@@ -98,14 +104,14 @@ def trim_terms(C: np.ndarray) -> np.ndarray:
 
 def polish_steps(best, who, C, s_c, y, rise, a, b) -> None:
     """Raise ``best`` by each step polynomial's maximum: Newton in the two coarse cells
-    around its best coarse point; in every other cell whose coarse values plus ``rise``
-    still reach what that found, the full search (:func:`polish_polynomials`) on the cell,
-    at the density the whole step's GRID gives."""
+    around its best coarse point; in every other cell whose larger end value plus its
+    ``rise`` (per cell, or one per step) still reaches what that found, the full search
+    (:func:`polish_polynomials`) on the cell, at the density the whole step's GRID gives."""
     r = np.arange(C.shape[0])
     i = np.argmax(y, axis=1)
     lo, hi = s_c[r, np.maximum(i - 1, 0)], s_c[r, np.minimum(i + 1, COARSE - 1)]
     found = np.maximum(y[r, i], newton_max(C, s_c[r, i], lo, hi, 2 * NEWTON))
-    cell = np.maximum(y[:, :-1], y[:, 1:]) + rise[:, None]
+    cell = np.maximum(y[:, :-1], y[:, 1:]) + (rise if rise.ndim == 2 else rise[:, None])
     k = np.arange(COARSE - 1)[None, :]
     cell[(k == i[:, None] - 1) | (k == i[:, None])] = -np.inf
     row, at = np.nonzero(cell >= found[:, None])
@@ -142,6 +148,36 @@ def zoom_max(read, a: float, b: float, points: int, levels: int) -> tuple[float,
         lo, hi = max(j - 1, 0), min(j + 1, points - 1)
         t0, width, i = t0 + lo * d, (hi - lo) * d, lo
     return best, where
+
+
+def cell_rises(C: np.ndarray, s_c: np.ndarray) -> np.ndarray:
+    """(rows, cells): the most each polynomial row of C (lowest power first) can rise above
+    the larger of its values at the ends of each cell between the points ``s_c`` (rows,
+    cells + 1): ``max |p''| d^2 / 8`` on a cell of width d. The bound of |p''| comes from the
+    polynomial about the cell's midpoint m, ``p(m + u) = sum q_i u^i``:
+    ``|p''| <= sum i (i - 1) |q_i| (d / 2)^(i - 2)``, with ``q_i = p^(i)(m) / i!`` exact for
+    i < SHIFT_EXACT and bounded above it by ``sum_j binom(j, i) |c_j| M^(j - i)`` (M the
+    largest of 1 and |s|): those terms carry (d / 2)^6 and less. It is close to the largest
+    |p''| on the cell (a step's polynomial, where the bound from the coefficients about the
+    step's start, ``sum j (j - 1) |c_j|``, is some 80 times too large for the longer steps of
+    the error estimate's second run). Rounding: T eps of that coefficient bound, added."""
+    P, T = C.shape
+    if T < 3:
+        return np.zeros((P, s_c.shape[1] - 1))
+    m = 0.5 * (s_c[:, :-1] + s_c[:, 1:])                       # (rows, cells)
+    half = 0.5 * (s_c[:, 1:] - s_c[:, :-1])
+    j = np.arange(T)
+    binom = np.array([[math.comb(int(n), int(i)) for i in j] for n in j], dtype=float)   # [j, i]
+    top = min(SHIFT_EXACT, T)
+    q = [np.abs(horner_rows(C[:, i:] * binom[i:, i], m)) for i in range(2, top)]
+    M = np.maximum(1.0, np.abs(s_c).max(axis=1))
+    Q = ((np.abs(C) * M[:, None] ** j) @ binom) / M[:, None] ** j     # bounds of |q_i|, every i
+    curve = np.zeros(m.shape)
+    for i in range(T - 1, 1, -1):                              # Horner in d / 2
+        curve = curve * half + i * (i - 1.0) * (q[i - 2] if i < top else Q[:, i, None])
+    far = (np.abs(C) * M[:, None] ** j) @ (j * (j - 1.0))
+    curve += T * np.finfo(float).eps * far[:, None]
+    return curve * (2.0 * half) ** 2 / 8
 
 
 def horner_rows(C: np.ndarray, x: np.ndarray) -> np.ndarray:

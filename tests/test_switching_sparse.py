@@ -71,6 +71,30 @@ def test_sparse_path_matches_dense_on_the_roller_table(over):
     assert_allclose(sparse.out[n:2 * n], dense.out[n:2 * n], rtol=0, atol=1e-8 * scale)
 
 
+def test_a_dense_run_of_many_modes_starts_again_sparse(monkeypatch):
+    # piecewise_exact gives up the dense path once its modes cost more than DENSE_WORK
+    # (counted in modes x states^3, never in time) and runs again sparse: the pulsating load's
+    # switches with the limits lowered so that this small table crosses them. Same switches
+    # and speeds as the dense run (the sparse path's agreement above); a network below
+    # SPARSE_FROM states never switches
+    p = params(load_amplitude=70.0, load_frequency=50.0, t_end=3.6)
+    net = roller_table.build(p)
+    t = np.linspace(0.0, p["t_end"], 801)
+    x0 = np.zeros(net.size)
+    dense = run(net, t, x0, False)
+    size = net.size + len(net.generators(0.0))
+    monkeypatch.setattr(run_module, "SPARSE_FROM", size)
+    monkeypatch.setattr(run_module, "DENSE_WORK", 3.0 * size ** 3)
+    out, _, info = switching.piecewise_exact(net, t, x0, 100_000)
+    assert info["path"] == "sparse (after 4 dense modes)"
+    assert [(k, on) for _, k, on in info["switches"]] == [(net.strands[k].name, on) for _, k, on in dense.switches]
+    n = net.n
+    scale = np.abs(dense.out[n:2 * n]).max()
+    assert_allclose(out[n:2 * n], dense.out[n:2 * n], rtol=0, atol=1e-8 * scale)
+    monkeypatch.setattr(run_module, "SPARSE_FROM", size + 1)
+    assert switching.piecewise_exact(net, t, x0, 100_000)[2]["path"] == "dense"
+
+
 def test_sparse_path_bounces_like_the_closed_form():
     # the bouncing contact (tests/test_switching_reference.py) on the sparse path
     seq = bounce_sequence()

@@ -34,7 +34,9 @@ FIRST_BLOCK = 64     # steps of a run's first block; later, half the previous st
 FIRST_FLOPS = 2e6    # ... and at most this many state-size^2 products (size 19: 5540 steps, 245: 33)
 CACHE_BYTES = 400e6  # modes kept (least recently used first out)
 RADIUS_MARGIN = 1.25  # the sparse path's power-step radius, raised by this (it may come from below)
-SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see SparseParts)
+SPARSE_SIZE = 300    # states (with generators) from which modes are sparse (see SparseParts) ...
+SPARSE_FROM = 100    # ... and from which a dense run that builds many modes starts again sparse:
+DENSE_WORK = 2e8     # once the dense modes built, times states^3, pass this (piecewise_exact)
 SPARSE_BLOCK = 2e6   # polynomial coefficients held per block of sparse steps
 KEEP_FLOATS = 8e6    # a watched sparse block's Taylor terms kept for the watch (64 MB) at most
 REBASE_TURN = 2 * math.pi   # rad: a block's rotation before the angles are re-based (Run.rebase)
@@ -70,11 +72,17 @@ class ModeCache:
         return mode
 
 
+class DenseTooCostly(Exception):
+    """A dense run built more modes than DENSE_WORK allows: :func:`piecewise_exact` runs it
+    again on the sparse path."""
+
+
 class Run(Outputs):
     """The exact piecewise propagation of one network over the output times ``t``."""
 
     def __init__(self, network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0,
-                 method: str = "exact", integrate: bool = False, watch=None):
+                 method: str = "exact", integrate: bool = False, watch=None, sparse: bool | None = None,
+                 give_up_dense: bool = False):
 
         self.network, self.t, self.max_events, self.method = network, t, max_events, method
         t_end = float(t[-1])
@@ -86,7 +94,14 @@ class Run(Outputs):
         self.S = self._scaling(F0)
         n = network.size
         parts = None
-        if F0.shape[0] >= SPARSE_SIZE and network.strands:
+        if sparse is None:
+            sparse = F0.shape[0] >= SPARSE_SIZE
+        self.sparse = bool(sparse and network.strands)
+        # a dense run of many strand patterns stops (DenseTooCostly) once its modes cost more
+        # than the sparse path would (each dense mode: expm, its integral, its Taylor terms)
+        self.dense_limit = DENSE_WORK / F0.shape[0] ** 3 if (give_up_dense and not self.sparse and network.strands
+                                                            and F0.shape[0] >= SPARSE_FROM) else math.inf
+        if self.sparse:
             # no stiff ladder on the sparse path; the spectral radius by power steps
             parts, omega = SparseParts(network, self.S), 0.0
             rho = RADIUS_MARGIN * power_radius(parts.scipy_matrix(all_taut, network.piece_time(0, self.starts, t_end)))
@@ -382,6 +397,8 @@ class Run(Outputs):
                 seg += 1
                 continue
             mode = self.cache.get(taut, seg, net.piece_time(seg, self.starts, self.t_end))
+            if self.cache.built > self.dense_limit:
+                raise DenseTooCostly(self.cache.built)
             # counted in bottom steps: a stiff ladder takes fewer, but squares its way up from one
             # (2^K of them), and a ladder some 40 levels tall overflows (a 60 km shaft)
             need = self.steps + (t_stop - t_cur) / mode.L
@@ -437,9 +454,24 @@ class Run(Outputs):
 def piecewise_exact(network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0, watch=None):
     """Exact propagation between strand switches and time break points: (states, steps, info).
     With a ``watch`` (:class:`beltcalc.sim.watch.Watch`), its extremes are filled and
-    ``info["integrals"]`` holds the states' integrals from 0 at every sample."""
-    run = Run(network, t, x0, max_events, scale, watch=watch).run()
+    ``info["integrals"]`` holds the states' integrals from 0 at every sample.
+
+    A network of SPARSE_FROM to SPARSE_SIZE states starts dense; if its strand patterns need
+    more dense modes than DENSE_WORK / states^3 (a long chain that keeps switching: 36 rollers
+    of the roller table, 2,469 switches, took 224 s dense, 22 s sparse and 26 s so), it starts
+    again on the sparse path (25 rollers, 510 switches: 25 s dense, 14 s so; 20 rollers, 58
+    switches, 22 modes, stay dense at 3.5 s where sparse takes 11 s). The choice counts modes,
+    never time: the same on every machine."""
+    try:
+        run = Run(network, t, x0, max_events, scale, watch=watch, give_up_dense=True).run()
+        restarted = 0
+    except DenseTooCostly as e:
+        restarted = e.args[0]
+        run = Run(network, t, x0, max_events, scale, watch=watch, sparse=True).run()
     info = run.info()
+    info["path"] = "sparse" if run.sparse else "dense"
+    if restarted:
+        info["path"] += f" (after {restarted} dense modes)"
     out, rebased = run.absolute()
     if rebased is not None:
         info["rebased"] = rebased

@@ -36,7 +36,6 @@ from beltcalc.numerics.expm import expm
 from beltcalc.sim.watch.polish import (COARSE, GRID, PendingSteps, cell_rises, horner_rows, polish_polynomials,
                                        trim_terms, zoom_max)
 from beltcalc.sim.propagate import orbit
-from beltcalc.sim.switching import SPARSE_SIZE
 
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
 CANDIDATE_BYTES = 64e6  # ... as far as their step points fit this much
@@ -66,7 +65,7 @@ class Watch:
         self.O = self.rows * run.S[None, :]
         # a large network's signal rows are sparse (a speed reads one state, a torque four)
         self.Op = self.O
-        if run.S.size >= SPARSE_SIZE:
+        if run.sparse:
             from scipy import sparse
 
             self.Op = sparse.csr_matrix(self.O)

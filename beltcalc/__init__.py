@@ -33,9 +33,9 @@ _WHERE = {
     "Gear": "beltcalc.sim.elements", "Strand": "beltcalc.sim.elements", "Load": "beltcalc.sim.elements",
     "InductionMotor": "beltcalc.sim.elements", "Prescribed": "beltcalc.sim.elements",
     "SpeedLoop": "beltcalc.sim.elements",
-    "design_tension": "beltcalc.tension", "TensionInputs": "beltcalc.tension",
-    "size_axis": "beltcalc.sizing", "SizingInputs": "beltcalc.sizing",
-    "load_catalog": "beltcalc.catalogs",
+    "design_tension": "beltcalc.design.tension", "TensionInputs": "beltcalc.design.tension",
+    "size_axis": "beltcalc.design.sizing", "SizingInputs": "beltcalc.design.axis_inputs",
+    "load_catalog": "beltcalc.data.catalogs",
     "BeltcalcError": "beltcalc.errors", "InputError": "beltcalc.errors",
 }
 __all__ = sorted(_WHERE) + ["__version__"]

@@ -3,7 +3,7 @@
 
 A :class:`Param` says what a value is (an SI quantity, a whole number, a text, or one of
 several dimensions). :func:`resolve` takes each value from what the caller gives, else from
-the scene file (``catalogs/scenes/*.toml``, read by :func:`beltcalc.scenefile.load_scene`),
+the scene file (``catalogs/scenes/*.toml``, read by :func:`beltcalc.data.scenefile.load_scene`),
 converted to SI once, and says where it came from. :func:`parse_assignments` and
 :func:`sweep_points` read the texts a user types; what they cannot read is a
 :class:`~beltcalc.errors.UsageError` naming the input (``set``, ``sweep``).
@@ -91,7 +91,7 @@ class Resolved:
 def resolve(scene, params: Sequence[Param], given: Mapping[str, object] | None = None) -> dict[str, Resolved]:
     """Each parameter from ``given`` (SI values; None = not given), else from the scene file.
 
-    ``scene`` is a :class:`beltcalc.catalogs.Scene`. A scene value that cannot be read, a
+    ``scene`` is a :class:`beltcalc.data.catalogs.Scene`. A scene value that cannot be read, a
     key that is no parameter, or a required value that is missing, is a
     :class:`~beltcalc.errors.CatalogError` naming the scene file and the key (a missing
     one also names the parameter, ``scope="scene"``: it may be given instead).

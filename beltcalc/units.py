@@ -16,7 +16,7 @@ from functools import lru_cache
 
 import pint
 
-from beltcalc.tomlsafe import quote
+from beltcalc.data.tomlsafe import quote
 
 _REGISTRY: pint.UnitRegistry | None = None
 

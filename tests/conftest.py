@@ -16,7 +16,7 @@ if os.environ.get("PYTEST_XDIST_WORKER"):
 
 @pytest.fixture(autouse=True, scope="session")
 def _own_catalog_cache(tmp_path_factory):
-    """The parsed built-in catalogs (beltcalc/catalogs.py, ``_builtin_catalog``) go to a folder
+    """The parsed built-in catalogs (beltcalc/data/catalogs.py, ``_builtin_catalog``) go to a folder
     of the test session's own, for every process it starts too: tests that install beltcalc
     into a fresh folder would otherwise leave a cache file per run in the user's cache."""
     before = os.environ.get("BELTCALC_CACHE")

@@ -1,10 +1,10 @@
-"""Tests of beltcalc.belt: the substitute model of Wojtkowiak et al., Energies 14 (2021) 317."""
+"""Tests of beltcalc.formulas.belt: the substitute model of Wojtkowiak et al., Energies 14 (2021) 317."""
 
 import math
 
 import pytest
 
-from beltcalc import belt as bm
+from beltcalc.formulas import belt as bm
 from beltcalc.errors import InputError
 
 RPM = 2 * math.pi / 60

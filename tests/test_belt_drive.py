@@ -1,4 +1,4 @@
-"""Tests of beltcalc.belt_drive (checks of a timing-belt drive) and of `beltcalc belt-drive`."""
+"""Tests of beltcalc.design.belt_drive (checks of a timing-belt drive) and of `beltcalc belt-drive`."""
 
 import json
 import math
@@ -8,8 +8,10 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings, strategies as st
 
-from beltcalc import belt_drive as bd
-from beltcalc.catalogs import load_catalog
+from beltcalc.design import belt_drive as bd
+from beltcalc.design import motor_peak as mp
+from beltcalc.formulas import belt_capacity as cap
+from beltcalc.data.catalogs import load_catalog
 from beltcalc.cli.main import cli
 from beltcalc.errors import InputError
 
@@ -70,7 +72,7 @@ def test_endless_drive_by_hand():
     # stock: whole teeth either side of L / P and their back-solved centre distances
     low, high = r.stock
     assert low == math.floor(r.belt_teeth) and high == math.ceil(r.belt_teeth)
-    from beltcalc import geometry as geo
+    from beltcalc.formulas import geometry as geo
     for teeth, a in zip(r.stock, r.stock_center_distance):
         assert geo.belt_pitch_length(d1, d2, a) == pytest.approx(teeth * 0.005, rel=1e-13)
 
@@ -81,7 +83,7 @@ def test_shaft_load_is_the_vector_sum():
         half = (math.pi - alpha) / 2
         fx = t1 * math.cos(half) + t2 * math.cos(-half)
         fy = t1 * math.sin(half) + t2 * math.sin(-half)
-        assert bd.shaft_load(t1, t2, alpha) == pytest.approx(math.hypot(fx, fy), rel=1e-13)
+        assert cap.shaft_load(t1, t2, alpha) == pytest.approx(math.hypot(fx, fy), rel=1e-13)
 
 
 def test_service_factor_tables():
@@ -115,7 +117,7 @@ def test_tooth_shear_margin_monotone_in_width_and_teeth(teeth, n_rpm):
           for k in (1.0, 1.5, 3.0)]
     assert all(b >= a for a, b in zip(zs, zs[1:]))
     assert all(b >= a for a, b in zip(caps, caps[1:]))
-    assert caps == pytest.approx([bd.tooth_shear_capacity(caps[0] / zs[0] * 1.0, 1.0, z) for z in zs], rel=1e-12)
+    assert caps == pytest.approx([cap.tooth_shear_capacity(caps[0] / zs[0] * 1.0, 1.0, z) for z in zs], rel=1e-12)
 
 
 def test_select_width_names_rule_tried_and_chosen():
@@ -254,7 +256,7 @@ def test_from_motor_size_of_a_duty_cycle_file(tmp_path):
 def test_from_motor_size_library():
     # the library takes a MotorPeak; F_U = 2 i T_M / d1 (Tsubaki "Fa = 2T/Dp" with T = i T_M)
     d1 = 40 * 0.010 / math.pi
-    peak = bd.MotorPeak(torque=2.5, gear_ratio=4.0, pulley_diameter=d1, source="test")
+    peak = mp.MotorPeak(torque=2.5, gear_ratio=4.0, pulley_diameter=d1, source="test")
     r = bd.check_belt_drive(replace(WDU, mass=None, accel=None, motor_size=peak), CAT.belt("AT10"), SF)
     assert r.force == pytest.approx(2 * 4.0 * 2.5 / d1, rel=1e-14)
     assert r.warnings == ()
@@ -264,7 +266,7 @@ def test_from_motor_size_library():
     assert r.force == pytest.approx(2 * 4.0 * 2.5 / d1, rel=1e-14)
     assert any("driving pulley is d = 100 mm" in w for w in r.warnings)
     with pytest.raises(InputError, match="no finite peak_torque") as exc:
-        bd.motor_peak_from_json({"peak_torque": {"value": 2.0, "unit": "N m"}}, "x.json")
+        mp.motor_peak_from_json({"peak_torque": {"value": 2.0, "unit": "N m"}}, "x.json")
     assert exc.value.param == "motor_size"
 
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from beltcalc.errors import InputError
-from beltcalc.geometry import belt_pitch_length
+from beltcalc.formulas.geometry import belt_pitch_length
 from beltcalc.sim.beltpath import Circle, Eccentric, eccentric_ratio, loop
 
 # a sewing-machine-sized drive: motor pulley r1, rim r2 = 1.375 r1 (the paper's U12), the roller

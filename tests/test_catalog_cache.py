@@ -1,4 +1,4 @@
-"""The parsed built-in catalogs kept in the user's cache (beltcalc/catalogs.py,
+"""The parsed built-in catalogs kept in the user's cache (beltcalc/data/catalogs.py,
 ``_builtin_catalog``): the same entries as reading the files, never stale, never in the way."""
 
 from __future__ import annotations
@@ -8,8 +8,8 @@ import shutil
 
 import pytest
 
-import beltcalc.catalogs as catalogs
-from beltcalc.catalogs import CACHE_ENV, load_catalog
+import beltcalc.data.catalogs as catalogs
+from beltcalc.data.catalogs import CACHE_ENV, load_catalog
 
 ORIGINAL_DIR = catalogs.builtin_dir
 

@@ -26,8 +26,8 @@ import math
 import pytest
 from click.testing import CliRunner
 
-from beltcalc.belt_drive import specific_tooth_load
-from beltcalc.catalogs import load_catalog
+from beltcalc.formulas.belt_capacity import specific_tooth_load
+from beltcalc.data.catalogs import load_catalog
 from beltcalc.cli.main import cli
 from beltcalc.errors import InputError
 

@@ -1,4 +1,4 @@
-"""The catalog loader (:mod:`beltcalc.catalogs`) and the invariants of the built-in data."""
+"""The catalog loader (:mod:`beltcalc.data.catalogs`) and the invariants of the built-in data."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from beltcalc.catalogs import BeltProfile, Catalog, Motor, Thread, builtin_dir, load_catalog
+from beltcalc.data.catalogs import BeltProfile, Catalog, Motor, Thread, builtin_dir, load_catalog
 from beltcalc.errors import BeltcalcError, CatalogError, UnknownNameError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -284,7 +284,7 @@ MALFORMED = [
                  "threads[0].d2", id="thread-d2-over-d"),
     pytest.param(SOURCE + motor(name="Mo-1", T_n=2.0, T_max=1.0), "motors[0].T_max",
                  id="motor-peak-below-rated"),
-    # read by the schema (beltcalc/schema.py): each kind's own keys, the place of a list's item
+    # read by the schema (beltcalc/data/schema.py): each kind's own keys, the place of a list's item
     pytest.param(SOURCE + '[[threads]]\nname = "Mx"\nmanufacturer = "Acme"\nd = 10\nP = 1\nd2 = 9\nflank_angle = 60\n'
                           'units = { d = "mm", P = "mm", d2 = "mm", flank_angle = "deg" }\n',
                  "threads[0].manufacturer: unknown key", id="key-of-another-kind"),

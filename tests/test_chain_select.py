@@ -1,4 +1,4 @@
-"""Roller chains: formulas of beltcalc.chain (issue 13 part), selection (beltcalc.chain_select),
+"""Roller chains: formulas of beltcalc.formulas.chain (issue 13 part), selection (beltcalc.design.chain_select),
 the chain catalog, and `beltcalc chain`."""
 
 import json
@@ -9,10 +9,10 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import given, settings, strategies as st
 
-from beltcalc import chain as cm
-from beltcalc import chain_select as cs
-from beltcalc.catalogs import load_catalog
-from beltcalc.scenefile import load_scene
+from beltcalc.formulas import chain as cm
+from beltcalc.design import chain_select as cs
+from beltcalc.data.catalogs import load_catalog
+from beltcalc.data.scenefile import load_scene
 from beltcalc.cli.main import cli
 from beltcalc.errors import InputError
 from beltcalc.units import parse_quantity

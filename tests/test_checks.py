@@ -1,4 +1,4 @@
-"""The check layer of the simulate commands (beltcalc.checks, Outcome.checks): each check
+"""The check layer of the simulate commands (beltcalc.design.checks, Outcome.checks): each check
 fires on a case built to fail it and not on the default runs; failures are one warning line
 each on stderr and in the JSON's one `warnings` key; --strict turns them into exit 1."""
 

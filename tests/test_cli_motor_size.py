@@ -51,7 +51,7 @@ import pytest
 from click.testing import CliRunner
 from numpy.testing import assert_allclose
 
-from beltcalc.catalogs import builtin_dir
+from beltcalc.data.catalogs import builtin_dir
 from beltcalc.cli.main import cli
 from clichecks import edited_copy, ok, one_error_line
 

@@ -14,7 +14,7 @@ import math
 import pytest
 from click.testing import CliRunner
 
-from beltcalc.catalogs import builtin_dir
+from beltcalc.data.catalogs import builtin_dir
 from beltcalc.cli.main import cli
 from clichecks import ok, one_error_line
 
@@ -313,10 +313,11 @@ def test_assumed_zone_end_and_where_the_margin_is_smallest():
 
 def sized(*catalogs: str, motor: str | None = None):
     """The CycleSizing motor-size reports for the WDU scene with these catalog files (and --motor)."""
-    from beltcalc.catalogs import load_catalog
-    from beltcalc.scenefile import load_scene
+    from beltcalc.data.catalogs import load_catalog
+    from beltcalc.data.scenefile import load_scene
     from beltcalc.params import resolve
-    from beltcalc.sizing import PARAMS, DutyOptions, SizingInputs, size_cycle
+    from beltcalc.design.sizing import DutyOptions, size_cycle
+    from beltcalc.design.axis_inputs import PARAMS, SizingInputs
 
     cat = load_catalog(catalogs)
     values = resolve(load_scene("wdu", command="motor-size"), PARAMS, {})

@@ -18,9 +18,9 @@ import click
 import pytest
 from click.testing import CliRunner
 
-from beltcalc import chain as cm
-from beltcalc.catalogs import load_catalog
-from beltcalc.checks import Check, failures
+from beltcalc.formulas import chain as cm
+from beltcalc.data.catalogs import load_catalog
+from beltcalc.design.checks import Check, failures
 from beltcalc.cli.main import cli
 from beltcalc.errors import InputError
 
@@ -110,7 +110,7 @@ def test_a_stock_length_that_cannot_fit_is_left_out():
     note = next(n for n in out["notes"] if "cannot fit" in n)
     assert "shorter stock belt (50 teeth, 250 mm)" in note and "a = 47.7465 mm" in note
     # the longer stock belt (51 teeth) is kept, at the centre distance where it fits exactly
-    from beltcalc import geometry as geo
+    from beltcalc.formulas import geometry as geo
     assert out["stock_longer_teeth"]["value"] == 51
     a = out["stock_longer_center_distance"]["value"]
     assert geo.belt_pitch_length(d1, d2, a) == pytest.approx(51 * 0.005, rel=1e-13)
@@ -365,9 +365,10 @@ UNREACHABLE = {
     "chain": {"pitch": "the catalog's, checked on loading", "roller_diameter": "the catalog's, checked on loading",
               "chain_speed": "z p n / 2 pi > 0 from --speed > 0", "tension": "K_s F + q v^2 >= 0"},
 }
-MODULES = {"belt-drive": {"belt_drive.py": None, "geometry.py": None},
-           "chain": {"chain_select.py": None,
-                     "chain.py": {"sprocket_pitch_diameter", "sprocket_root_diameter", "sprocket_tip_diameters",
+MODULES = {"belt-drive": {"design/belt_drive.py": None, "formulas/belt_capacity.py": None,
+                          "design/motor_peak.py": None, "formulas/geometry.py": None},
+           "chain": {"design/chain_select.py": None,
+                     "formulas/chain.py": {"sprocket_pitch_diameter", "sprocket_root_diameter", "sprocket_tip_diameters",
                                   "polygon_speed_variation", "chain_length_links", "chain_links_even",
                                   "chain_center_distance", "chain_speed", "chain_wrap_angle", "galling_speed"}}}
 

@@ -1,4 +1,4 @@
-"""Tests of beltcalc.drive: reflected inertia, losses and motor torque of a belt axis.
+"""Tests of beltcalc.formulas.drive: reflected inertia, losses and motor torque of a belt axis.
 
 References: Wojtkowiak et al., Energies 14 (2021) 317, eq. 17-29 and Fig. 13-15 ("the
 paper"); A. Crowder, Electric Drives and Electromechanical Systems, eq. 3.21-3.27.
@@ -13,10 +13,10 @@ import pint
 import pytest
 from numpy.testing import assert_allclose
 
-from beltcalc.drive import G0, BeltAxis, cylinder_inertia, duty, motor_damping
+from beltcalc.formulas.drive import G0, BeltAxis, cylinder_inertia, duty, motor_damping
 from beltcalc.errors import InputError
-from beltcalc.profiles import trapezoid
-from beltcalc.sizing import energy_eq29_closed_form
+from beltcalc.formulas.profiles import trapezoid
+from beltcalc.design.sizing import energy_eq29_closed_form
 from beltcalc.units import ureg
 
 RPM = 2 * math.pi / 60

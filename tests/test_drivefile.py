@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from beltcalc.catalogs import builtin_dir, load_catalog
+from beltcalc.data.catalogs import builtin_dir, load_catalog
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.drivefile import DriveFile, DriveFileError, load_drive, undamped_frequencies
 
@@ -174,7 +174,7 @@ def test_belt_span_from_the_catalog_reproduces_tension_stiffness_and_the_two_mas
     # BRECO AT10, 25 mm: k = C_spec / L, as `beltcalc tension` computes k_TB = C_spec / a;
     # a two-way span from a 30-tooth pulley to a 20 kg carriage gives the two-mass
     # frequency w^2 = k (1/m + r^2/J) (beltcalc.sim.scenes.linear_axis.two_mass_frequency)
-    from beltcalc.belt import belt_stiffness, pulley_pitch_diameter
+    from beltcalc.formulas.belt import belt_stiffness, pulley_pitch_diameter
     from beltcalc.sim.scenes.linear_axis import two_mass_frequency
 
     belt = load_catalog().belt("BRECO-AT10")
@@ -206,7 +206,7 @@ def test_belt_span_from_the_catalog_reproduces_tension_stiffness_and_the_two_mas
     c = d.network.couplings[0]
     assert c.C / r ** 2 == pytest.approx(k, rel=1e-14)
     # ... and k_TB of `beltcalc tension` for the same belt, width and span
-    from beltcalc.tension import TensionInputs, design_tension
+    from beltcalc.design.tension import TensionInputs, design_tension
 
     rep = design_tension(TensionInputs(center_distance=1.2, width=0.025, mass=20.0, accel=1.0, tension_accel=0.1,
                                        tension_speed=0.005, mu=0.2, pulley_diameter=2 * r),
@@ -223,7 +223,7 @@ def test_belt_span_from_the_catalog_reproduces_tension_stiffness_and_the_two_mas
 
 
 def test_chain_sprockets_from_teeth_and_strand_from_the_chain_catalog(tmp_path):
-    from beltcalc.chain import sprocket_pitch_diameter
+    from beltcalc.formulas.chain import sprocket_pitch_diameter
 
     path = _write(tmp_path, """
         [drive]
@@ -349,7 +349,7 @@ def test_a_new_kind_is_one_class_and_one_registry_line(tmp_path, monkeypatch):
     # class declares the section, the keys and the build; one line of ELEMENTS makes drive
     # files read it, check its keys, address its values and build it (a load against the
     # motion: the free node decelerates at T / J)
-    from beltcalc.schema import Quantity, Text
+    from beltcalc.data.schema import Quantity, Text
     from beltcalc.sim.drivefile.kinds import Kind
     from beltcalc.sim.drivefile.registry import ELEMENTS
     from beltcalc.sim.elements import Load
@@ -393,6 +393,58 @@ def test_a_new_kind_is_one_class_and_one_registry_line(tmp_path, monkeypatch):
     monkeypatch.delitem(ELEMENTS, "brake")
     with pytest.raises(DriveFileError, match=r"unknown section \[brake\]"):
         DriveFile(path)
+
+
+DAMPED = """
+[drive]
+t_end = "0.5 s"
+samples = 501
+
+[[node]]
+name = "disk"
+inertia = "2 kg*m^2"
+
+[[coupling]]
+name = "shaft"
+between = ["disk"]
+stiffness = "8e4 N*m/rad"
+damping = "4 N*m*s/rad"
+
+[[load]]
+node = "disk"
+amplitude = "50 N*m"
+frequency = "30 Hz"
+"""
+
+
+def test_a_torsional_damper_splits_the_mode_it_is_tuned_to(tmp_path):
+    # [[damper]]: a ring J_d on k_d and c_d fixed to a node [DH56 sec. 3.2]. Tuned to the
+    # disk's own frequency (k_d / J_d = k / J), the two undamped frequencies are the roots of
+    # J J_d w^4 - (J_d (k + k_d) + J k_d) w^2 + k k_d = 0; and the drive is the one written
+    # with the ring as a node and its spring as a coupling (the same network, to rounding)
+    ring = '\n[[damper]]\nname = "ring"\nnode = "disk"\ninertia = "0.2 kg*m^2"\nstiffness = "8e3 N*m/rad"\n'
+    damped = _write(tmp_path, DAMPED + ring + 'damping = "5 N*m*s/rad"\n', "damper.toml")
+    by_hand = _write(tmp_path, DAMPED + '\n[[node]]\nname = "ring"\ninertia = "0.2 kg*m^2"\n\n[[coupling]]\n'
+                     'name = "ring_spring"\nbetween = ["disk", "ring"]\nstiffness = "8e3 N*m/rad"\n'
+                     'damping = "5 N*m*s/rad"\n', "by_hand.toml")
+    J, k, Jd, kd = 2.0, 8e4, 0.2, 8e3
+    a, b, c = J * Jd, -(Jd * (k + kd) + J * kd), k * kd
+    roots = sorted((-b + s * math.sqrt(b * b - 4 * a * c)) / (2 * a) for s in (-1, 1))
+    want = [math.sqrt(x) / (2 * math.pi) for x in roots]
+    d = load_drive(str(damped))
+    assert undamped_frequencies(d.network) == pytest.approx(want, rel=1e-12)
+    assert want[0] < math.sqrt(k / J) / (2 * math.pi) < want[1]
+    r, h = simulate(d.network, 0.5, 501, SolverConfig("exact")), simulate(load_drive(str(by_hand)).network, 0.5, 501,
+                                                                          SolverConfig("exact"))
+    for name in ("omega_disk", "omega_ring", "T_ring_spring", "T_shaft"):
+        scale = float(np.abs(h[name]).max())
+        np.testing.assert_allclose(r[name], h[name], rtol=0, atol=1e-12 * scale, err_msg=name)
+    clash = _write(tmp_path, DAMPED + ring.replace('name = "ring"', 'name = "disk"'), "clash.toml")
+    with pytest.raises(DriveFileError, match=r"damper 'disk': name: repeats the name of a node"):
+        load_drive(str(clash))
+    free = _write(tmp_path, DAMPED + ring.replace('stiffness = "8e3 N*m/rad"', ""), "free.toml")
+    with pytest.raises(DriveFileError, match=r"damper 'ring': damping: give a stiffness or a damping"):
+        load_drive(str(free))
 
 
 def test_conveyor_example_runs_every_element_kind_to_its_static_balance():

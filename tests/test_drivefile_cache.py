@@ -7,7 +7,7 @@ import textwrap
 import pytest
 
 import beltcalc.units
-from beltcalc.catalogs import builtin_dir
+from beltcalc.data.catalogs import builtin_dir
 from beltcalc.sim.drivefile import DriveFile, DriveFileError
 from beltcalc.sim.drivefile.kinds import material_table, materials
 from test_drivefile import BASE

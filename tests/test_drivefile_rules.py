@@ -17,7 +17,7 @@ import math
 import pytest
 from click.testing import CliRunner
 
-from beltcalc.catalogs import builtin_dir
+from beltcalc.data.catalogs import builtin_dir
 from beltcalc.cli.main import cli
 from clichecks import edited_copy, ok, one_error_line
 

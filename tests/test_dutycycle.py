@@ -1,4 +1,4 @@
-"""Tests of beltcalc.dutycycle: exact duty cycles (issue 14).
+"""Tests of beltcalc.design.dutycycle: exact duty cycles (issue 14).
 
 Every hard number is checked against an independent computation: closed forms worked by
 hand in the comments, or scipy.integrate.quad of the torque evaluated point by point from
@@ -15,11 +15,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from beltcalc.drive import G0, BeltAxis, duty
-from beltcalc.dutycycle import (AxisDrive, Gearbox, Mounting, Segment, assumed_zone, capacitor_energy, cycle_duty,
-                                regeneration, single_move, zone_check)
+from beltcalc.formulas.drive import G0, BeltAxis, duty
+from beltcalc.design.dutycycle import AxisDrive, Gearbox, Mounting, Segment, cycle_duty, single_move
+from beltcalc.design.zones import assumed_zone, zone_check
+from beltcalc.design.regeneration import capacitor_energy, regeneration
 from beltcalc.errors import InputError
-from beltcalc.profiles import move_by_time, scurve, trapezoid
+from beltcalc.formulas.profiles import move_by_time, scurve, trapezoid
 
 R = 0.05                      # pulley radius D/2 [m]
 
@@ -117,8 +118,9 @@ def test_size_axis_is_size_cycle_and_the_sweep_its_duty():
     # one implementation (issue 14, tidy): beltcalc.size_axis calls size_cycle; a sweep point is the
     # same cycle duty; both equal drive.duty's closed form of the single trapezoid (1e-13)
     import beltcalc
-    from beltcalc.catalogs import load_catalog
-    from beltcalc.sizing import DutyOptions, SizingInputs, size_cycle, sweep
+    from beltcalc.data.catalogs import load_catalog
+    from beltcalc.design.sizing import DutyOptions, size_cycle, sweep
+    from beltcalc.design.axis_inputs import SizingInputs
 
     cat = load_catalog()
     inp = SizingInputs(mass=50.0, width=0.025, center_distance=1.245, pulley_teeth=40, pulley_width=0.03,

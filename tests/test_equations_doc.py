@@ -193,19 +193,19 @@ def test_the_old_spelling_check_finds_them(text, found):
 # --- where the equations are (the issue's examples) -----------------------------------------------------
 
 @pytest.mark.parametrize("citation, where", [
-    ("W21 eq. 12", "beltcalc.belt.pretension_displacement"),
-    ("W21 eq. 14", "beltcalc.belt.teeth_on_span"),
-    ("W21 eq. 29", "beltcalc.sizing.move_energy"),
+    ("W21 eq. 12", "beltcalc.formulas.belt.pretension_displacement"),
+    ("W21 eq. 14", "beltcalc.formulas.belt.teeth_on_span"),
+    ("W21 eq. 29", "beltcalc.design.sizing.move_energy"),
     ("M16 eq. 2", "beltcalc.sim.elements.InductionMotor"),
     ("M16 eq. 3-7", "beltcalc.sim.elements.Coupling"),
     ("M16 eq. 2", "beltcalc.sim.frequency.input_column"),
     ("RP eq. 8-11", "beltcalc.sim.network.strands.StrandModes.strand_forces"),
     ("RP eq. 3", "beltcalc.sim.network.assembly.series_stiffness"),
-    ("RP eq. 16", "beltcalc.chain.placement_factor"),
-    ("C04 eq. 3.21, 3.22, 3.27", "beltcalc.drive.BeltAxis.inertia_parts"),
-    ("Shigley eq. 17-32", "beltcalc.chain_select.rated_power_link_plate"),
-    ("Shigley eq. 17-1", "beltcalc.geometry.belt_pitch_length"),
-    ("BM08 eq. 3.25", "beltcalc.profiles.move_by_time"),
+    ("RP eq. 16", "beltcalc.formulas.chain.placement_factor"),
+    ("C04 eq. 3.21, 3.22, 3.27", "beltcalc.formulas.drive.BeltAxis.inertia_parts"),
+    ("Shigley eq. 17-32", "beltcalc.design.chain_select.rated_power_link_plate"),
+    ("Shigley eq. 17-1", "beltcalc.formulas.geometry.belt_pitch_length"),
+    ("BM08 eq. 3.25", "beltcalc.formulas.profiles.move_by_time"),
 ])
 def test_the_issues_equations_are_found_where_they_are(citation, where):
     assert citation in {f"{c.key} {c.locator}" for c in _cited() if c.where == where}

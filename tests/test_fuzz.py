@@ -39,7 +39,7 @@ from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from beltcalc.catalogs import builtin_dir
+from beltcalc.data.catalogs import builtin_dir
 from beltcalc.cli.main import cli
 
 TIMEOUT = 150.0         # seconds an invocation may take before it counts as a hang: above the 120 s of
@@ -713,7 +713,7 @@ def _scene_params(scene: str):
 
 
 def _scene_values(scene_file: str) -> dict[str, str]:
-    from beltcalc.scenefile import load_scene
+    from beltcalc.data.scenefile import load_scene
 
     return {name: text for name, (text, _why) in load_scene(scene_file).values.items()}
 

@@ -1,4 +1,4 @@
-"""Tests of beltcalc.geometry: open-belt length, centre-distance back-solve, wrap, spans, linear axis."""
+"""Tests of beltcalc.formulas.geometry: open-belt length, centre-distance back-solve, wrap, spans, linear axis."""
 
 import math
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from beltcalc import geometry as geo
+from beltcalc.formulas import geometry as geo
 from beltcalc.errors import InputError
 
 

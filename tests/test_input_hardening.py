@@ -280,17 +280,17 @@ def test_a_later_write_removes_stale_temporaries_of_the_writer(out):
 def _warn_then(monkeypatch, fail: bool):
     import warnings
 
-    import beltcalc.catalogs
+    import beltcalc.data.catalogs
     from beltcalc.errors import CatalogError
 
-    real = beltcalc.catalogs.load_catalog
+    real = beltcalc.data.catalogs.load_catalog
 
     def noisy(extra=()):
         warnings.warn("Mean of empty slice", RuntimeWarning)
         if fail:
             raise CatalogError("mine.toml: belts[0]: broken")
         return real(extra)
-    monkeypatch.setattr(beltcalc.catalogs, "load_catalog", noisy)
+    monkeypatch.setattr(beltcalc.data.catalogs, "load_catalog", noisy)
 
 
 def test_a_python_warning_is_not_on_stderr_of_a_failing_run(monkeypatch, out):
@@ -324,11 +324,11 @@ def test_a_typed_name_is_echoed_short_on_one_line(args, code, fragments, out):
 def test_an_allocation_too_large_is_one_line_exit_1(monkeypatch, out):
     # whatever check misses a size (here a stand-in for --dt 1e-12s), the boundary says what
     # happened and what to lower, not "internal error"
-    import beltcalc.catalogs
+    import beltcalc.data.catalogs
 
     def huge(extra=()):
         raise MemoryError("Unable to allocate 7.28 TiB for an array")
-    monkeypatch.setattr(beltcalc.catalogs, "load_catalog", huge)
+    monkeypatch.setattr(beltcalc.data.catalogs, "load_catalog", huge)
     fails(out, 1, ["catalog", "list"], ["not enough memory", "7.28 TiB", "fewer --samples"])
 
 
@@ -350,7 +350,7 @@ def test_a_unit_without_a_number_is_refused_at_every_entry(args, fragments, out)
 
 
 def test_a_unit_without_a_number_in_a_drive_file_names_the_key(tmp_path, out):
-    from beltcalc.catalogs import builtin_dir
+    from beltcalc.data.catalogs import builtin_dir
 
     text = (builtin_dir() / "drives" / "friswell_5_disks.toml").read_text()
     assert 'inertia = "3.5e-3 kg*m^2"' in text
@@ -424,7 +424,7 @@ def test_a_study_in_which_no_run_succeeds_exits_1(out):
 
 
 def test_a_drive_file_with_a_byte_order_mark_reads(tmp_path):
-    from beltcalc.catalogs import builtin_dir
+    from beltcalc.data.catalogs import builtin_dir
 
     path = tmp_path / "bom.toml"
     path.write_bytes(b"\xef\xbb\xbf" + (builtin_dir() / "drives" / "friswell_5_disks.toml").read_bytes())
@@ -469,7 +469,7 @@ def test_an_overflow_names_the_value_set(args, fragments, out):
 
 
 def test_an_overflow_of_a_drive_files_own_value_names_the_file(tmp_path, out):
-    from beltcalc.catalogs import builtin_dir
+    from beltcalc.data.catalogs import builtin_dir
 
     text = (builtin_dir() / "drives" / "conveyor.toml").read_text()
     path = tmp_path / "big.toml"

@@ -95,7 +95,7 @@ def test_wheel_contains_the_catalogs(wheel):
 
 
 def test_installed_package_comes_from_the_venv(venv, tmp_path):
-    code = ("import beltcalc, beltcalc.catalogs as c; print(beltcalc.__file__); "
+    code = ("import beltcalc, beltcalc.data.catalogs as c; print(beltcalc.__file__); "
             "print(c.builtin_dir())")
     lines = _run([venv / "bin" / "python", "-c", code], cwd=tmp_path).stdout.splitlines()
     module, catalogs = (Path(line).resolve() for line in lines)

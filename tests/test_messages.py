@@ -14,7 +14,7 @@ import re
 import pytest
 from click.testing import CliRunner
 
-from beltcalc.catalogs import builtin_dir
+from beltcalc.data.catalogs import builtin_dir
 from beltcalc.cli.main import cli
 from clichecks import edited_copy, ok, one_error_line
 
@@ -159,7 +159,7 @@ def ok_or_no_motor(result) -> str:
 
 
 def test_percent_rule():
-    from beltcalc.checks import percent
+    from beltcalc.design.checks import percent
 
     assert [percent(0.2304), percent(9.99), percent(9.996), percent(12.34), percent(1000.0), percent(2.28e6)] == \
         ["23%", "999%", "x10", "x12.3", "x1000", "x2.28e+06"]
@@ -241,9 +241,9 @@ def test_a_phase_peak_inside_the_phase():
     # J = 0.05 (rotor) + 20 kg (0.1 m / 2)^2 = 0.1 kg m^2, b = 1 N m s/rad, nothing else:
     # T(t) = J (10 - 20 t) + b (10 + 10 t - 10 t^2); T' = -2 + 10 - 20 t = 0 at t = 0.4 s,
     # T(0.4) = 0.1 * 2 + (10 + 4 - 1.6) = 12.6 N m, above the ends T(0) = 11 and T(1) = 9.
-    from beltcalc.dutycycle import AxisDrive, Segment, cycle_duty
-    from beltcalc.drive import BeltAxis
-    from beltcalc.profiles import Phase, Trapezoid
+    from beltcalc.design.dutycycle import AxisDrive, Segment, cycle_duty
+    from beltcalc.formulas.drive import BeltAxis
+    from beltcalc.formulas.profiles import Phase, Trapezoid
 
     axis = BeltAxis(mass=20.0, substitute_mass=0.0, pulley_diameter=0.1, pulley_inertia=0.0, idler_inertia=0.0,
                     gear_ratio=1.0)

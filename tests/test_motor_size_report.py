@@ -18,10 +18,11 @@ from beltcalc.errors import InputError
 
 def sized(motor: str | None = None, **given):
     """The WDU scene sized (and its resolved values), as ``beltcalc motor-size`` sizes it."""
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
     from beltcalc.params import resolve
-    from beltcalc.scenefile import load_scene
-    from beltcalc.sizing import PARAMS, DutyOptions, SizingInputs, size_cycle
+    from beltcalc.data.scenefile import load_scene
+    from beltcalc.design.sizing import DutyOptions, size_cycle
+    from beltcalc.design.axis_inputs import PARAMS, SizingInputs
 
     cat = load_catalog()
     values = resolve(load_scene("wdu", command="motor-size"), PARAMS, given)
@@ -104,10 +105,11 @@ def test_inherited_rows_label_each_value_by_the_callers_name():
 
 
 def test_sweep_table_checks_each_point_against_the_motor():
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
     from beltcalc.params import resolve
-    from beltcalc.scenefile import load_scene
-    from beltcalc.sizing import PARAMS, SizingInputs, sweep
+    from beltcalc.data.scenefile import load_scene
+    from beltcalc.design.sizing import sweep
+    from beltcalc.design.axis_inputs import PARAMS, SizingInputs
 
     cat = load_catalog()
     values = resolve(load_scene("wdu", command="motor-size"), PARAMS, {})

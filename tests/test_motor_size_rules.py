@@ -16,8 +16,8 @@ import math
 import pytest
 from click.testing import CliRunner
 
-from beltcalc.catalogs import builtin_dir, load_catalog
-from beltcalc.scenefile import load_scene
+from beltcalc.data.catalogs import builtin_dir, load_catalog
+from beltcalc.data.scenefile import load_scene
 from beltcalc.cli.main import cli
 
 CYCLE = builtin_dir() / "cycles" / "pick_place_vertical.toml"

@@ -1,4 +1,4 @@
-"""Tests of beltcalc.motors: every motor checked on peak, RMS, speed and inertia ratio, and the
+"""Tests of beltcalc.design.motors: every motor checked on peak, RMS, speed and inertia ratio, and the
 recommendation (DESIGN.md 2.5: prefer the smallest motor running at 50-100 % of its rated torque).
 
 One axis and one move for every case, chosen so that the duty is easy by hand:
@@ -17,11 +17,11 @@ import math
 
 import pytest
 
-from beltcalc.catalogs import Motor, Source, load_catalog
-from beltcalc.drive import BeltAxis
+from beltcalc.data.catalogs import Motor, Source, load_catalog
+from beltcalc.formulas.drive import BeltAxis
 from beltcalc.errors import InputError
-from beltcalc.motors import check_motor, choose_motor
-from beltcalc.profiles import trapezoid
+from beltcalc.design.motors import check_motor, choose_motor
+from beltcalc.formulas.profiles import trapezoid
 
 AXIS = BeltAxis(mass=10.0, substitute_mass=0.0, pulley_diameter=0.1, pulley_inertia=0.0,
                 idler_inertia=0.0, gear_ratio=10.0, resistance=20.0)

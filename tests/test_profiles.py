@@ -1,4 +1,4 @@
-"""Tests of beltcalc.profiles: trapezoidal and triangular moves (Wojtkowiak et al. 2021, Fig. 9-12).
+"""Tests of beltcalc.formulas.profiles: trapezoidal and triangular moves (Wojtkowiak et al. 2021, Fig. 9-12).
 
 All quantities at the motor shaft, SI: rad, rad/s, rad/s^2, s. The area under the speed
 curve is the stroke; the phases follow one another without a jump in speed.
@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from beltcalc.errors import InputError
-from beltcalc.profiles import trapezoid
+from beltcalc.formulas.profiles import trapezoid
 
 
 def durations(p):
@@ -137,7 +137,7 @@ def test_bad_inputs_name_the_parameter(args, param, unit):
 # --- S-curves and moves by time (issue 14) --------------------------------------------------------
 # Biagiotti & Melchiorri, Trajectory Planning for Automatic Machines and Robots (2008), section 3.4.
 
-from beltcalc.profiles import SCurve, move_by_time, scurve  # noqa: E402
+from beltcalc.formulas.profiles import SCurve, move_by_time, scurve  # noqa: E402
 
 
 def _kinematics(p, t):

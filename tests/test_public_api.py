@@ -73,7 +73,7 @@ def test_to_pandas_without_pandas_says_how_to_get_it(monkeypatch):
 
 
 def test_a_formula_function_given_a_quantity_says_what_to_pass():
-    from beltcalc.belt import belt_stiffness
+    from beltcalc.formulas.belt import belt_stiffness
     from beltcalc.units import ureg
 
     with pytest.raises(beltcalc.InputError, match=r"c_spec: 5 kN is a quantity; this function takes SI "

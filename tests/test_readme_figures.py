@@ -166,7 +166,7 @@ def sewing_couplings() -> dict:
 
 
 def roller_sprocket() -> dict:
-    from beltcalc.chain import sprocket_pitch_diameter
+    from beltcalc.formulas.chain import sprocket_pitch_diameter
     from beltcalc.sim.scenes import SCENES
 
     v = SCENES["roller-table"].values()
@@ -998,14 +998,21 @@ def relative(rollers: str) -> Callable[[dict], float]:
 PYTHON["results roller_scaling"] = roller_scaling
 S = "results roller_scaling"
 BENCHMARK_FIGURES += on("docs/performance.md", [
-    F(S, "At 1 and 3 rollers exact beats Radau by 119x and 184x", "119", cell("1", "ratio")),
-    F(S, "At 1 and 3 rollers exact beats Radau by 119x and 184x", "184", cell("3", "ratio")),
-    F(S, "7,833 switches at 100 rollers take 445 s", "445", cell("100", "exact")),
-    F(S, "(1,760 s with the estimate's second watched run)", "1,760", cell("100", "estimated")),
-    F(S, "at 100 rollers it is 5e-5 N m, 3e-7 of the scale", "3e-7", relative("100")),
-    F(S, "solves a second time: 0.32 s and 0.498 s end to end at 7001 samples", "0.32", cell("3", "exact"),
+    F(S, "At 1 and 3 rollers exact beats Radau by 128x and 206x", "128", cell("1", "ratio")),
+    F(S, "At 1 and 3 rollers exact beats Radau by 128x and 206x", "206", cell("3", "ratio")),
+    F(S, "7,833 switches at 100 rollers take 73.7 s", "7,833", cell("100", "switches")),
+    F(S, "7,833 switches at 100 rollers take 73.7 s", "73.7", cell("100", "exact")),
+    F(S, "(84.9 s with the estimate), 9,538 at 200 rollers", "84.9", cell("100", "estimated")),
+    F(S, "9,538 at 200 rollers 139 s (169 s with the estimate", "9,538", cell("200", "switches")),
+    F(S, "9,538 at 200 rollers 139 s (169 s with the estimate", "139", cell("200", "exact")),
+    F(S, "9,538 at 200 rollers 139 s (169 s with the estimate", "169", cell("200", "estimated")),
+    F(S, "The 200-roller row's estimate is 9.7e-4 N m, 2e-5 of the scale", "9.7e-4", cell("200", "estimate")),
+    F(S, "The 200-roller row's estimate is 9.7e-4 N m, 2e-5 of the scale", "2e-5", relative("200")),
+    F(S, "at 100 rollers it is 4.5e-5 N m, 3e-7 of the scale", "4.5e-5", cell("100", "estimate")),
+    F(S, "at 100 rollers it is 4.5e-5 N m, 3e-7 of the scale", "3e-7", relative("100")),
+    F(S, "solves a second time: 0.314 s and 0.488 s end to end at 7001 samples", "0.314", cell("3", "exact"),
       page="docs/scenes.md"),
-    F(S, "solves a second time: 0.32 s and 0.498 s end to end at 7001 samples", "0.498", cell("3", "estimated"),
+    F(S, "solves a second time: 0.314 s and 0.488 s end to end at 7001 samples", "0.488", cell("3", "estimated"),
       page="docs/scenes.md"),
 ])
 

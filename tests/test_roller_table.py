@@ -1,5 +1,5 @@
 """The roller-table drive of Rusek & Popenda (seeds/002): the chain formulas of
-beltcalc/chain.py, and the scene beltcalc/sim/scenes/roller_table.py on the shared core.
+beltcalc/formulas/chain.py, and the scene beltcalc/sim/scenes/roller_table.py on the shared core.
 
 Hand computation for the default scene (catalogs/scenes/roller_table.toml), SI:
   sprockets: 10B-1 chain p = 15.875 mm, z = 19: d = p / sin(180 deg / 19) = 15.875 / 0.16459459
@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from beltcalc.chain import load_split, placement_factor, sprocket_pitch_diameter, strand_stiffness, torsional_stiffness
+from beltcalc.formulas.chain import load_split, placement_factor, sprocket_pitch_diameter, strand_stiffness, torsional_stiffness
 from beltcalc.errors import InputError, SimulationError
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.network import Coupling, Load, Network
@@ -491,7 +491,7 @@ def test_pulsating_load_trajectory_does_not_depend_on_the_output_grid():
 def test_chain_data_comes_from_the_catalog():
     # the scene file names the chain (10B-1); pitch, mass and breaking load are the catalog's and
     # equal, bit for bit, to what the scene file typed before (15.875 mm, 0.91 kg/m, 22.2 kN)
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
     from beltcalc.units import parse_quantity
 
     chain = load_catalog().chain("10B-1")

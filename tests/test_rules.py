@@ -1,4 +1,4 @@
-"""The registry of rules (beltcalc/checks.py ``RULES``, issue 28 item 4): one definition of
+"""The registry of rules (beltcalc/design/checks.py ``RULES``, issue 28 item 4): one definition of
 each limit with its source, used by every command that meets the quantity: `chain` and a
 simulated chain strand (F_B / F >= 6, Diamond Chain), `tension` and a drive file's fitted belt
 damping (R^2 >= 0.9), `belt-drive`, `tension` and a belt strand (F <= F_Tadm)."""
@@ -15,9 +15,9 @@ from types import SimpleNamespace as NS
 import pytest
 from click.testing import CliRunner
 
-from beltcalc.catalogs import load_catalog
-from beltcalc.chain_select import RPM, ChainInputs, chain_checks, check_chain
-from beltcalc.checks import RULES, rules_table
+from beltcalc.data.catalogs import load_catalog
+from beltcalc.design.chain_select import RPM, ChainInputs, chain_checks, check_chain
+from beltcalc.design.checks import RULES, rules_table
 from beltcalc.cli.main import cli
 from beltcalc.sim.scenes.base import strand_check
 from clichecks import ok, warnings
@@ -82,14 +82,14 @@ def test_every_check_in_the_code_base_is_made_from_the_registry():
 def test_the_ast_scan_finds_a_check_made_by_hand(tmp_path):
     # the scan above can fail: a hand-made Check and a subclass's call are both found
     src = tmp_path / "m.py"
-    src.write_text("from beltcalc.checks import Check\nclass C(Check): pass\n"
+    src.write_text("from beltcalc.design.checks import Check\nclass C(Check): pass\n"
                    "a = Check('k', 'n', 1.0, 2.0, 'N')\nb = C('k', 'n', 1.0, 2.0, 'N')\n")
     assert _check_calls(src) == [(3, "Check"), (4, "C")]
 
 
 def test_docs_table_is_the_registry():
     text = (ROOT / "docs" / "design_checks.md").read_text()
-    assert rules_table() in text, "regenerate the table: python -c 'from beltcalc.checks import rules_table; " \
+    assert rules_table() in text, "regenerate the table: python -c 'from beltcalc.design.checks import rules_table; " \
                                   "print(rules_table())'"
     rows = {m.group(1): m.group(0) for m in re.finditer(r"^\| `(\w+)` \|.*$", text, re.M)}
     for key, r in RULES.items():

@@ -1,4 +1,4 @@
-"""Scene files (beltcalc/scenefile.py): the built-in ones, a base scene's values inherited,
+"""Scene files (beltcalc/data/scenefile.py): the built-in ones, a base scene's values inherited,
 and every malformed file refused in one line naming the file and the key."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from beltcalc.errors import CatalogError, UnknownNameError
-from beltcalc.scenefile import load_scene, scene_names
+from beltcalc.data.scenefile import load_scene, scene_names
 
 HEAD = '[source]\ndocument = "mine"\n[scene]\ntitle = "t"\ncommand = "motor-size"\n'
 

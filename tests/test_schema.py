@@ -1,4 +1,4 @@
-"""The typed schema of the TOML files (beltcalc/schema.py): each field type reads what it
+"""The typed schema of the TOML files (beltcalc/data/schema.py): each field type reads what it
 should, in each notation, and refuses everything else with one message that says where,
 the value and what is allowed. Unit factors are by definition (1 mm = 1e-3 m, 1 rpm =
 2 pi / 60 rad/s, 1 kg*cm^2 = 1e-4 kg*m^2)."""
@@ -10,7 +10,7 @@ import math
 import pytest
 
 from beltcalc.errors import CatalogError
-from beltcalc.schema import (CATALOG, QUANTITIES, SI_TEXTS, TEXTS, Choice, Context, Entries, FieldError, Flag, List,
+from beltcalc.data.schema import (CATALOG, QUANTITIES, SI_TEXTS, TEXTS, Choice, Context, Entries, FieldError, Flag, List,
                              Named, Names, Quantity, Record, Section, Table, Text, TomlFile, Whole)
 
 RPM = 2 * math.pi / 60

@@ -1,11 +1,11 @@
-"""Tests of beltcalc.screw: eq. (13) of Wojtkowiak et al. 2021 and the VDI 2230 head term."""
+"""Tests of beltcalc.formulas.screw: eq. (13) of Wojtkowiak et al. 2021 and the VDI 2230 head term."""
 
 import math
 
 import pytest
 
 from beltcalc.errors import InputError
-from beltcalc.screw import bolt_torque, friction_angle, lead_angle
+from beltcalc.formulas.screw import bolt_torque, friction_angle, lead_angle
 
 
 def test_paper_example_m10x1():

@@ -60,8 +60,8 @@ def test_simulate_sewing_imports_no_scipy_module(pint_floor):
     loaded = _loaded("simulate", "sewing")
     assert not _under(loaded, *NEVER, "scipy.linalg", "scipy.optimize", "scipy.sparse") - pint_floor
     # only its own scene: not the linear axis's sizing and duty cycles, not the roller table
-    assert not {"beltcalc.sim.scenes.linear_axis", "beltcalc.sim.scenes.roller_table", "beltcalc.sizing",
-                "beltcalc.dutycycle"} & loaded
+    assert not {"beltcalc.sim.scenes.linear_axis", "beltcalc.sim.scenes.roller_table", "beltcalc.design.sizing",
+                "beltcalc.design.dutycycle"} & loaded
 
 
 def test_a_drive_with_strands_imports_no_scipy_module(pint_floor):
@@ -99,7 +99,7 @@ def test_the_registry_takes_an_entry_set_in_place_of_a_scene():
 
 def test_the_console_script_collects_garbage_while_the_command_runs():
     # main() pauses the collector only while the command's module is imported
-    code = ("import gc, sys\nimport beltcalc.catalogs as c\nreal = c.load_catalog\nseen = []\n"
+    code = ("import gc, sys\nimport beltcalc.data.catalogs as c\nreal = c.load_catalog\nseen = []\n"
             "def spy(*a, **k):\n    seen.append(gc.isenabled())\n    return real(*a, **k)\n"
             "c.load_catalog = spy\nfrom beltcalc.cli import main as m\nsys.argv = ['beltcalc', 'catalog', 'list']\n"
             "try:\n    m.main()\nexcept SystemExit as e:\n    code = e.code\n"

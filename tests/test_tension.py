@@ -1,4 +1,4 @@
-"""Tests of beltcalc.tension (composition with catalog data) and the `beltcalc tension` CLI."""
+"""Tests of beltcalc.design.tension (composition with catalog data) and the `beltcalc tension` CLI."""
 
 import json
 import math
@@ -7,10 +7,10 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from beltcalc.catalogs import load_catalog
+from beltcalc.data.catalogs import load_catalog
 from beltcalc.cli.main import cli
 from beltcalc.errors import InputError, UnknownNameError
-from beltcalc.tension import TensionInputs, design_tension, select_width
+from beltcalc.design.tension import TensionInputs, design_tension, select_width
 
 CAT = load_catalog()
 WDU = TensionInputs(center_distance=1.245, width=0.025, mass=50.0, accel=10.0, tension_accel=0.1,

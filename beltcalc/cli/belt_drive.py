@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import click
 
-from beltcalc.checks import percent
+from beltcalc.design.checks import percent
 from beltcalc.cli.contract import checks_json, echo_inputs, entry, options_text, out_of_range, quantity, shown
 from beltcalc.cli.options import catalog_option, output_options, quantity_option
 from beltcalc.cli.output import Row, dumps, emit_warnings, print_table, strict_option, table_csv, write_atomic, wrote
@@ -72,8 +72,9 @@ def belt_drive(ctx, belt, width, select_width, layout, teeth, teeth_large, cente
     25 mm, a = 1245 mm, 40-tooth pulleys, 50 kg at 10 m/s^2): F_U = 500 N, installation
     tension 500 N by the manufacturers' rule beside the paper's 505.1 N, belt 2.89 m.
     """
-    from beltcalc.belt_drive import BeltDriveInputs, check_belt_drive, motor_size_peak, select_belt_width
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.design.belt_drive import BeltDriveInputs, check_belt_drive, select_belt_width
+    from beltcalc.design.motor_peak import motor_size_peak
+    from beltcalc.data.catalogs import load_catalog
     from beltcalc.cli.main import OPTION_NAMES
 
     ctx.meta.setdefault(OPTION_NAMES, {}).update(RENAMED)

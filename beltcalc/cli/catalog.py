@@ -29,7 +29,7 @@ _UNITS = {
 
 
 def _kind(entry) -> str:
-    from beltcalc.catalogs import BeltProfile, Chain, Thread
+    from beltcalc.data.catalogs import BeltProfile, Chain, Thread
 
     if isinstance(entry, Chain):
         return "chain"
@@ -86,7 +86,7 @@ def catalog():
 @output_options
 def list_entries(catalog_paths, as_json, csv_path):
     """List every belt, thread and motor with a one-line summary and its source."""
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
 
     cat = load_catalog(catalog_paths)
     groups = {"belts": cat.belts, "threads": cat.threads, "motors": cat.motors, "chains": cat.chains}
@@ -116,7 +116,7 @@ def list_entries(catalog_paths, as_json, csv_path):
 @output_options
 def show(name, catalog_paths, as_json, csv_path):
     """Show one entry (belt, thread or motor) with every value, its unit and its source."""
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
 
     entry = load_catalog(catalog_paths).entry(name)
     rows = entry_rows(entry)

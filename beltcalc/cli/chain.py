@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import click
 
-from beltcalc.checks import percent
+from beltcalc.design.checks import percent
 from beltcalc.cli.contract import (check_rows, checks_json, echo_inputs, entry, fmt, options_text, out_of_range,
                                    quantity, shown)
 from beltcalc.cli.options import catalog_option, output_options, quantity_option
@@ -49,8 +49,8 @@ def chain(ctx, power, torque, speed, teeth, teeth_large, service_factor, design_
     n_d = 1.5, C/p = 25): 1 strand no. 200, 2 strands no. 160, 3 and 4 strands no. 140;
     3 strands of no. 140 chosen, 76 links.
     """
-    from beltcalc.catalogs import load_catalog
-    from beltcalc.chain_select import HORSEPOWER, LUBRICATION, ChainInputs, select_chain
+    from beltcalc.data.catalogs import load_catalog
+    from beltcalc.design.chain_select import HORSEPOWER, LUBRICATION, ChainInputs, select_chain
 
     if links is not None and center_distance is not None:
         raise click.BadParameter("give --links or --center-distance, not both: the link count sets the centre "

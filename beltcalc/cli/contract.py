@@ -15,7 +15,7 @@ import click
 from click.core import ParameterSource
 
 from beltcalc.cli.main import option_name
-from beltcalc.checks import figure
+from beltcalc.design.checks import figure
 from beltcalc.errors import render
 from beltcalc.report import BEYOND, Row, format_number, quantity  # noqa: F401  (quantity: the CLI's too)
 
@@ -88,7 +88,7 @@ def checks_json(checks) -> list[dict]:
 def check_rows(checks) -> list[Row]:
     """The checks as table rows: utilisation in % (past 999 % as a factor, "x12.3"), the
     verdict and the rule in the note (a failing row says FAIL first, an n/a or unverified
-    row why). A check on a score (the damping fit's R^2, :attr:`~beltcalc.checks.Check.score`)
+    row why). A check on a score (the damping fit's R^2, :attr:`~beltcalc.design.checks.Check.score`)
     shows the value itself as a plain number: limit / R^2 is no fraction of a capacity. A
     utilisation with no finite figure (a minimum check on a value at or below 0) is "-" with
     that said, not blamed on the float range."""

@@ -51,7 +51,7 @@ def _drive(ref: str, assignments, catalog_paths, plot_path, names: dict | None =
         require_matplotlib()
     catalog = None
     if catalog_paths:
-        from beltcalc.catalogs import load_catalog
+        from beltcalc.data.catalogs import load_catalog
 
         catalog = load_catalog(catalog_paths)
     spec = drive_scene(ref, catalog)

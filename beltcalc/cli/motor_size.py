@@ -18,12 +18,12 @@ from beltcalc.cli.contract import checks_json, echo_inputs, entry, fmt, options_
 from beltcalc.cli.output import (console, dumps, emit_warnings, print_table, progress,
                                  require_matplotlib, save_figure, strict_option, table_csv, write_atomic, wrote)
 from beltcalc.cli.main import option_name
-from beltcalc.checks import percent
+from beltcalc.design.checks import percent
 from beltcalc.design.motor_report import (SWEEP_COLUMNS, inherited_rows, profile_csv, profile_samples, report_dict,
                                           report_sections, scene_dict, sweep_table, zone_plot_data)
 from beltcalc.errors import InputError, UnknownNameError, did_you_mean
 from beltcalc.report import Section
-from beltcalc.sizing import PARAMS
+from beltcalc.design.axis_inputs import PARAMS
 
 
 def _sweep_spec(text: str | None):
@@ -31,7 +31,7 @@ def _sweep_spec(text: str | None):
     if text is None:
         return None
     from beltcalc.params import linspace
-    from beltcalc.sizing import SWEEPABLE
+    from beltcalc.design.sizing import SWEEPABLE
     from beltcalc.units import QuantityError, parse_quantity_any
 
     units = {"accel": ("rad/s^2", "m/s^2"), "speed": ("rad/s", "m/s")}
@@ -126,10 +126,11 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
     the gearbox's efficiency and ratings, the motor's torque-speed zone, and the braking
     resistor (--dc-bus-capacitance with the two voltages).
     """
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
     from beltcalc.params import resolve
-    from beltcalc.scenefile import load_scene
-    from beltcalc.sizing import DutyOptions, SizingInputs, size_axis, size_cycle, sweep
+    from beltcalc.data.scenefile import load_scene
+    from beltcalc.design.sizing import DutyOptions, size_axis, size_cycle, sweep
+    from beltcalc.design.axis_inputs import SizingInputs
 
     spec = _sweep_spec(sweep_text)
     if segment_texts and cycle_path is not None:
@@ -163,17 +164,17 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
 
     cycle = None
     if cycle_path is not None:
-        from beltcalc.cyclefile import load_cycle
+        from beltcalc.data.cyclefile import load_cycle
 
         cycle = load_cycle(cycle_path)
     elif segment_texts:
-        from beltcalc.cyclefile import CycleFile, parse_segments
+        from beltcalc.data.cyclefile import CycleFile, parse_segments
 
         cycle = CycleFile(title=f"{len(segment_texts)} segments (--segment)", path="",
                           segments=parse_segments(segment_texts))
     gb = None
     if gearbox_name is not None:
-        from beltcalc.gearboxes import gearbox
+        from beltcalc.design.gearboxes import gearbox
 
         gb = gearbox(gearbox_name, gearbox_files)
     opts = DutyOptions(
@@ -242,8 +243,8 @@ def _no_scene(given, replaced):
     """``--scene none``: a scene without values; every value the run uses must be an option,
     all the missing ones named in one message (those a cycle, a move time or a catalog
     gearbox replaces stand in as unused)."""
-    from beltcalc.catalogs import Source
-    from beltcalc.scenefile import SceneFile
+    from beltcalc.data.catalogs import Source
+    from beltcalc.data.scenefile import SceneFile
 
     missing = [option_name(p.name) for p in PARAMS
                if p.required and given.get(p.name) is None and p.name not in replaced]
@@ -428,7 +429,7 @@ def _render_sweep(name, unit, points, motor, peak_margin, as_json, csv_path, plo
     """The sweep in the one sweep schema of every command (parameters, columns, rows,
     failed_checks, warnings); each point's duty checked against the motor's ratings
     (:func:`beltcalc.design.motor_report.sweep_table`)."""
-    from beltcalc.checks import failures
+    from beltcalc.design.checks import failures
 
     st = sweep_table(name, unit, points, motor, peak_margin)
     table, point_checks = st.rows, st.point_checks

@@ -110,7 +110,7 @@ def display_value(row: Row) -> str:
     if row.value is None or (isinstance(row.value, float) and math.isnan(row.value)):
         return "-"
     if _factor(row):        # past 999 %: the factor, "x12.3" (docs/output.md)
-        from beltcalc.checks import percent
+        from beltcalc.design.checks import percent
 
         return percent(row.value)
     si = "" if row.unit == "1" else row.unit
@@ -121,7 +121,7 @@ def display_value(row: Row) -> str:
 
 def _factor(row: Row) -> bool:
     """Whether ``row`` is a percentage past 999 %, shown as a factor ("x12.3") instead."""
-    from beltcalc.checks import PERCENT_MAX
+    from beltcalc.design.checks import PERCENT_MAX
 
     value = row.value
     if row.display != "percent" or isinstance(value, (str, bool)) or value is None or not math.isfinite(value):
@@ -339,10 +339,10 @@ def emit_warnings(warnings: Iterable[str], checks=(), strict: bool = False) -> N
 
     Each warning is one ``warning: ...`` line on stderr (the same text goes into the
     JSON's ``warnings`` key, which the caller builds). With ``strict`` a failing check, or
-    one that could not be verified (:class:`~beltcalc.checks.Check` ``unverified``), ends
+    one that could not be verified (:class:`~beltcalc.design.checks.Check` ``unverified``), ends
     the command with exit 1 before any file is written.
     """
-    from beltcalc.checks import failures
+    from beltcalc.design.checks import failures
     from beltcalc.errors import InputError
 
     for w in warnings:

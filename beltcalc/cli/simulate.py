@@ -139,7 +139,7 @@ def _print_checks(checks) -> None:
     as a factor ("x12.3"), none for a score (the damping fit's R^2: its value is the figure)."""
     from rich.table import Table
 
-    from beltcalc.checks import percent
+    from beltcalc.design.checks import percent
 
     if not checks:
         return
@@ -576,7 +576,7 @@ def drive(file, catalog_paths, **kw):
 
     catalog = None
     if catalog_paths:
-        from beltcalc.catalogs import load_catalog
+        from beltcalc.data.catalogs import load_catalog
 
         catalog = load_catalog(catalog_paths)
     spec = drive_scene(file, catalog)

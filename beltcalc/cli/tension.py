@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import click
 
-from beltcalc.checks import percent
+from beltcalc.design.checks import percent
 from beltcalc.cli.contract import (check_rows, checks_json, echo_inputs, entry, options_text, out_of_range, quantity,
                                    shown)
 from beltcalc.cli.options import catalog_option, output_options, quantity_option
@@ -60,9 +60,9 @@ def tension(ctx, belt, width, select_width, safety_factor, center_distance, mass
     With no options: the WDU axis of Wojtkowiak et al., Energies 14 (2021) 317 (AT10 25 mm,
     a = 1245 mm, 50 kg at 10 m/s^2): F_t,peak = 505.1 N, x_max = 1.14 mm, 0.63 N m.
     """
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
     from beltcalc.errors import require_positive
-    from beltcalc.tension import TensionInputs, design_tension, select_width as pick_width
+    from beltcalc.design.tension import TensionInputs, design_tension, select_width as pick_width
 
     _require_companions(ctx, bearing_friction, bearing_diameter)
     require_positive("safety_factor", safety_factor, "")     # checked also without --select-width

@@ -2,8 +2,8 @@
 object, the torque profile sampled (and as CSV text), the torque-speed panel's data, and the
 table of a sweep with each point's rating checks.
 
-Everything here reads a :class:`beltcalc.sizing.CycleSizing` (or the points of
-:func:`beltcalc.sizing.sweep`) and returns SI floats in :class:`~beltcalc.report.Row` and
+Everything here reads a :class:`beltcalc.design.sizing.CycleSizing` (or the points of
+:func:`beltcalc.design.sizing.sweep`) and returns SI floats in :class:`~beltcalc.report.Row` and
 :class:`~beltcalc.report.Section`, plain dicts and text; nothing prints, parses options or
 writes files. A text that points at an input names it in backquotes, as the library's
 errors do (```motor```); ``name`` (as in :func:`beltcalc.errors.render`) says how a caller
@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
-from beltcalc.checks import Check, failures, percent
+from beltcalc.design.checks import Check, failures, percent
 from beltcalc.errors import render
 from beltcalc.report import Row, Section, format_number, quantity
 
@@ -40,7 +40,7 @@ def _rpm(w: float) -> str:
 
 def _jerk_limited(g) -> bool:
     """Whether the jerk keeps move ``g`` below its acceleration limit (see
-    :func:`beltcalc.sizing.jerk_limited`)."""
+    :func:`beltcalc.design.sizing.jerk_limited`)."""
     p = g.profile
     return (g.kind == "move" and math.isfinite(getattr(p, "jerk", math.inf))
             and p.peak_accel < p.accel * (1 - 1e-12))
@@ -52,10 +52,11 @@ def report_sections(s, name: Callable[[str], str] = _same) -> list[Section]:
     and the gearbox's checks (each where it has rows). With one move, the torque of each
     phase; with several, the first move's acceleration and energy.
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> from beltcalc.params import resolve
-    >>> from beltcalc.scenefile import load_scene
-    >>> from beltcalc.sizing import PARAMS, DutyOptions, SizingInputs, size_cycle
+    >>> from beltcalc.data.scenefile import load_scene
+    >>> from beltcalc.design.axis_inputs import PARAMS, SizingInputs
+    >>> from beltcalc.design.sizing import DutyOptions, size_cycle
     >>> cat = load_catalog()
     >>> values = resolve(load_scene("wdu", command="motor-size"), PARAMS, {})
     >>> inp = SizingInputs.from_values({k: v.value for k, v in values.items()})
@@ -63,7 +64,7 @@ def report_sections(s, name: Callable[[str], str] = _same) -> list[Section]:
     >>> [sec.path[0] for sec in report_sections(s)]
     ['motion', 'inertia', 'torque', 'zone', 'regeneration']
     """
-    from beltcalc.sizing import first_move_energy
+    from beltcalc.design.sizing import first_move_energy
 
     ax, shown = s.axis, s.shown
     move = s.first_move
@@ -162,7 +163,7 @@ def report_sections(s, name: Callable[[str], str] = _same) -> list[Section]:
 
 
 def _regen_rows(r) -> list[Row]:
-    """The rows of :class:`beltcalc.dutycycle.Regeneration` ``r``: the braking resistor's
+    """The rows of :class:`beltcalc.design.regeneration.Regeneration` ``r``: the braking resistor's
     energy, rating and powers; what the DC-bus capacitors store when they are given; the
     largest resistance when the resistor takes energy (no rows when ``r`` is None)."""
     if r is None:
@@ -253,7 +254,7 @@ def inherited_rows(inherited, name: Callable[[str], str] = _same) -> list[Row]:
     :func:`beltcalc.params.resolve`): its text as the scene gives it, labelled by ``name``,
     where it is measured (motor or carriage side) and the scene's reason, shortened to its
     source."""
-    from beltcalc.sizing import where
+    from beltcalc.design.axis_inputs import where
 
     rows = []
     for key, v in inherited.items():
@@ -268,7 +269,7 @@ def scene_dict(scene_def, inherited, new_axis: bool) -> dict:
     """The scene of a run for its JSON: name, title, whether the run's axis is a new one
     (``new_axis``: a value given, or an incline or counterweight) and each value taken from
     the scene (``inherited``) with its text and where it is measured."""
-    from beltcalc.sizing import where
+    from beltcalc.design.axis_inputs import where
 
     return {"name": scene_def.name, "title": scene_def.title, "new_axis": new_axis,
             "inherited": {k: {"text": v.text, "where": where(k, v.value)} for k, v in inherited.items()}}
@@ -283,7 +284,7 @@ def profile_samples(s, per_phase: int = 21) -> list[tuple[float, float, float, f
     limit at the end (exact values).
 
     Raises :class:`~beltcalc.errors.InputError` when ``s`` has no motor to report."""
-    from beltcalc.dutycycle import poly_value
+    from beltcalc.design.polynomials import poly_value
     from beltcalc.errors import InputError
 
     if s.shown is None:
@@ -371,10 +372,10 @@ class SweepTable:
 
 
 def sweep_table(name: str, unit: str, points, motor, peak_margin: float) -> SweepTable:
-    """The :class:`SweepTable` of the points of :func:`beltcalc.sizing.sweep` of ``name`` in
+    """The :class:`SweepTable` of the points of :func:`beltcalc.design.sizing.sweep` of ``name`` in
     ``unit``, each point's duty checked against ``motor``'s ratings
-    (:func:`beltcalc.motors.rating_checks`; ``motor`` None: no checks)."""
-    from beltcalc.motors import rating_checks
+    (:func:`beltcalc.design.motors.rating_checks`; ``motor`` None: no checks)."""
+    from beltcalc.design.motors import rating_checks
 
     rows = [(r.value, r.profile.peak_speed, r.profile.accel, r.peak_torque, r.accel_time, r.accel_energy,
              r.accel_energy_exact, r.rms_torque, r.profile.triangular) for r in points]

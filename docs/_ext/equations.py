@@ -57,6 +57,7 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
            "R. Crowder, Electric Drives and Electromechanical Systems, Newnes (2006)"),
     Source("Shigley", "Textbooks",
            "R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed., McGraw-Hill (2011)"),
+    Source("DH56", "Textbooks", "J. P. Den Hartog, Mechanical Vibrations, 4th ed., McGraw-Hill (1956)"),
     Source("BM08", "Textbooks",
            "L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots, Springer (2008)"),
     Source("ISO 606", "Standards",

@@ -12,14 +12,14 @@ from beltcalc.sim.drivefile.reader import Drive, DriveFile
 
 def drive_names() -> list[str]:
     """Names of the built-in drive files (``catalogs/drives/*.toml``)."""
-    from beltcalc.catalogs import builtin_dir
+    from beltcalc.data.catalogs import builtin_dir
 
     return sorted(p.stem for p in (builtin_dir() / "drives").glob("*.toml"))
 
 
 def drive_path(ref: str | Path) -> Path:
     """A drive file by path, or a built-in one by name (``sewing``)."""
-    from beltcalc.catalogs import builtin_dir
+    from beltcalc.data.catalogs import builtin_dir
     from beltcalc.errors import UnknownNameError
     from beltcalc.units import quote
 

@@ -1,5 +1,5 @@
 """The builder of a drive file: it hands each entry to its kind (``ELEMENTS``) with the values
-read once by their keys' fields (:mod:`beltcalc.schema`) to SI floats (``--set`` values
+read once by their keys' fields (:mod:`beltcalc.data.schema`) to SI floats (``--set`` values
 first, each checked against its key's bounds), and collects the nodes, the elements and what
 the report follows (notes, torques, strand limits, belt fits, motor signals, the inputs
 used).
@@ -18,7 +18,7 @@ from dataclasses import replace
 from functools import lru_cache
 
 from beltcalc.errors import BeltcalcError, InputError, did_you_mean
-from beltcalc.schema import SI_TEXTS, TEXTS, Context, Quantity
+from beltcalc.data.schema import SI_TEXTS, TEXTS, Context, Quantity
 from beltcalc.sim.drivefile.keys import Entry
 from beltcalc.sim.drivefile.registry import ELEMENTS, kind_of
 
@@ -28,7 +28,7 @@ _MISSING = object()          # a key the file does not give
 @lru_cache(maxsize=1)
 def builtin_catalog():
     """The built-in catalogs, read once per process (a sweep builds its drive many times)."""
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
 
     return load_catalog()
 

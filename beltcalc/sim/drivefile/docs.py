@@ -18,7 +18,7 @@ import re
 import sys
 from pathlib import Path
 
-from beltcalc.schema import Field, Flag, Names, Quantity, Table, Text, Whole
+from beltcalc.data.schema import Field, Flag, Names, Quantity, Table, Text, Whole
 from beltcalc.sim.drivefile.registry import kind_of, sections
 
 PAGE = Path(__file__).resolve().parents[3] / "docs" / "drive_files.md"

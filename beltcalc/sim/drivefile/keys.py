@@ -1,9 +1,9 @@
 """What drive files are made of: the :class:`Entry` of a file's element, the
 :class:`DriveParam` that ``--set`` addresses, and reading a file's TOML
 (:func:`read_drive_toml`). The keys are fields of the one typed schema
-(:mod:`beltcalc.schema`: :class:`~beltcalc.schema.Quantity`, :class:`~beltcalc.schema.Whole`,
-:class:`~beltcalc.schema.Flag`, :class:`~beltcalc.schema.Text`, :class:`~beltcalc.schema.Names`,
-:class:`~beltcalc.schema.Table`), declared by the element kinds
+(:mod:`beltcalc.data.schema`: :class:`~beltcalc.data.schema.Quantity`, :class:`~beltcalc.data.schema.Whole`,
+:class:`~beltcalc.data.schema.Flag`, :class:`~beltcalc.data.schema.Text`, :class:`~beltcalc.data.schema.Names`,
+:class:`~beltcalc.data.schema.Table`), declared by the element kinds
 (:mod:`beltcalc.sim.drivefile.kinds`, :mod:`beltcalc.sim.drivefile.motors`), which read a
 drive file's texts into SI numbers."""
 
@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from beltcalc.errors import CatalogError
-from beltcalc.tomlsafe import read_toml, shown_path
+from beltcalc.data.tomlsafe import read_toml, shown_path
 
 
 class DriveFileError(CatalogError):
@@ -54,7 +54,7 @@ class DriveParam:
 
 
 def read_drive_toml(path: Path) -> dict:
-    """The drive file ``path`` read by :func:`beltcalc.tomlsafe.read_toml` (bounded size and
+    """The drive file ``path`` read by :func:`beltcalc.data.tomlsafe.read_toml` (bounded size and
     depth: a file nested 5,000 levels deep is one line, not a RecursionError), every
     failure a :class:`DriveFileError` naming the file."""
     try:

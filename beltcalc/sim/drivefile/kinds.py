@@ -1,6 +1,6 @@
 """The element kinds of drive files: each declares its section, its keys (fields of the one
-typed schema, :mod:`beltcalc.schema`: a :class:`~beltcalc.schema.Quantity` with its SI unit
-and bounds, a :class:`~beltcalc.schema.Text`, ...; each with its help) and how an entry of it
+typed schema, :mod:`beltcalc.data.schema`: a :class:`~beltcalc.data.schema.Quantity` with its SI unit
+and bounds, a :class:`~beltcalc.data.schema.Text`, ...; each with its help) and how an entry of it
 builds (:meth:`Kind.build`: the elements it adds to the
 :class:`~beltcalc.sim.network.Network`, and what the report follows). The motors are in
 :mod:`beltcalc.sim.drivefile.motors`; the registry of them all, ``ELEMENTS``, in
@@ -16,6 +16,9 @@ References:
 [W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
     Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
     Model", Energies 14 (2021) 317: the belt's substitute spring and its damping.
+[DH56] J. P. Den Hartog, Mechanical Vibrations, 4th ed., McGraw-Hill (1956): the dynamic
+    vibration absorber, a mass on a spring and a damper fixed to the system it calms
+    [DH56 sec. 3.2-3.3].
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ from pathlib import Path
 from typing import ClassVar
 
 from beltcalc.errors import BeltcalcError
-from beltcalc.schema import Field, Flag, Names, Quantity, Table, Text, Whole
+from beltcalc.data.schema import Field, Flag, Names, Quantity, Table, Text, Whole
 from beltcalc.sim.drivefile.keys import TORQUE, Entry, read_drive_toml
 
 
@@ -104,11 +107,11 @@ class NodeKind(Kind):
             if (belt is None) == (chain is None):
                 b.fail(e, "teeth", "give the belt or the chain that runs on it (for the pitch diameter)")
             if belt is not None:
-                from beltcalc.belt import pulley_pitch_diameter
+                from beltcalc.formulas.belt import pulley_pitch_diameter
 
                 d = pulley_pitch_diameter(teeth, b.lookup(e, "belt", "belt").pitch)
             else:
-                from beltcalc.chain import sprocket_pitch_diameter
+                from beltcalc.formulas.chain import sprocket_pitch_diameter
 
                 d = sprocket_pitch_diameter(b.lookup(e, "chain", "chain").pitch, teeth)
         if d is not None:
@@ -206,7 +209,7 @@ class ShaftKind(Kind):
 
     @classmethod
     def build(cls, b, e: Entry) -> None:
-        from beltcalc.chain import torsional_stiffness
+        from beltcalc.formulas.chain import torsional_stiffness
         from beltcalc.sim.elements import Coupling
 
         a, c = b.between(e, (2,))
@@ -227,7 +230,7 @@ class ShaftKind(Kind):
         b.add(Coupling(e.name, a, c, C, d))
         b.torques.append((f"T_{e.name}", e.name))
         if rho:
-            from beltcalc.drive import cylinder_inertia
+            from beltcalc.formulas.drive import cylinder_inertia
 
             J = cylinder_inertia(D, bore, L, rho)
             for node in (a, c):
@@ -239,7 +242,7 @@ class ShaftKind(Kind):
 def materials() -> dict:
     """catalogs/materials.toml: {name: {"shear_modulus": Pa, "density": kg/m^3}} (shared:
     read only)."""
-    from beltcalc.catalogs import builtin_dir
+    from beltcalc.data.catalogs import builtin_dir
 
     return material_table(str(builtin_dir() / "materials.toml"))
 
@@ -297,7 +300,7 @@ class BeltSpanKind(Kind):
 
     @classmethod
     def build(cls, b, e: Entry) -> None:
-        from beltcalc import belt as bm
+        from beltcalc.formulas import belt as bm
         from beltcalc.sim.elements import Coupling, Strand
 
         (i, r_i), (j, r_j) = b.end_radius(e, "from"), b.end_radius(e, "to")
@@ -330,7 +333,7 @@ class BeltSpanKind(Kind):
     def damping(cls, b, e: Entry, belt, width: float, length: float, pulley: str) -> tuple[float, str]:
         """b_TB as `beltcalc tension` finds it: fitted to F_tspec(n) on the pulley the span
         leaves ([W21 sec. 3.2]), or the catalog's value."""
-        from beltcalc import belt as bm
+        from beltcalc.formulas import belt as bm
 
         if belt.F_tspec and pulley in b.radius:
             D = 2 * b.radius[pulley]
@@ -366,7 +369,7 @@ class ChainStrandKind(Kind):
 
     @classmethod
     def build(cls, b, e: Entry) -> None:
-        from beltcalc.chain import strand_stiffness
+        from beltcalc.formulas.chain import strand_stiffness
         from beltcalc.sim.elements import Strand
 
         (i, r_i), (j, r_j) = b.end_radius(e, "from"), b.end_radius(e, "to")
@@ -414,3 +417,33 @@ class LoadKind(Kind):
         b.add(Load(node, b.get(e, "torque", 0.0), b.get(e, "amplitude", 0.0), omega, b.get(e, "phase", 0.0),
                    in_angle=order is not None, table=tuple(b.get(e, "table", ())), start=b.get(e, "start", 0.0),
                    order=1.0 if order is None else order))
+
+
+class DamperKind(Kind):
+    """``[[damper]]``: a torsional vibration damper on a node [DH56 sec. 3.2-3.3]: a ring of
+    inertia J_d joined to the node by a spring k_d and a damper c_d (a tuned absorber; k_d = 0:
+    a viscous, Houdaille, damper). It is a node of its own, named after the entry
+    (``omega_NAME``), and a coupling ``NAME_spring`` (``T_NAME_spring``): nothing the core
+    does not already propagate exactly."""
+
+    section = "damper"
+    node_key = "node"
+    keys = {
+        "name": Text(help="unique name: the ring's node", required=True),
+        "node": Text(help="node the damper is fixed to", required=True),
+        "inertia": Quantity("kg*m^2", help="the ring's inertia J_d", required=True, low=">0"),
+        "stiffness": Quantity("N*m/rad", help="spring k_d between node and ring (0: a viscous damper)", low=">=0"),
+        "damping": Quantity("N*m*s/rad", help="damper c_d between node and ring", low=">=0"),
+    }
+
+    @classmethod
+    def build(cls, b, e: Entry) -> None:
+        from beltcalc.sim.elements import Coupling
+
+        node = b.node_name(e, "node")          # (the reader refuses a name another entry has)
+        k, c = b.get(e, "stiffness", 0.0), b.get(e, "damping", 0.0)
+        if k == 0.0 and c == 0.0:
+            b.fail(e, "damping", "give a stiffness or a damping (with neither, the ring turns free)")
+        b.add_node(e.name, b.need(e, "inertia"))
+        b.add(Coupling(f"{e.name}_spring", node, e.name, k, c, 1.0))
+        b.torques.append((f"T_{e.name}_spring", f"{e.name}_spring"))

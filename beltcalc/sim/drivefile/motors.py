@@ -10,9 +10,9 @@ from __future__ import annotations
 import math
 from typing import ClassVar
 
-from beltcalc.checks import percent
+from beltcalc.design.checks import percent
 from beltcalc.errors import did_you_mean
-from beltcalc.schema import Field, Quantity, Table, Text, Whole
+from beltcalc.data.schema import Field, Quantity, Table, Text, Whole
 from beltcalc.sim.drivefile.keys import TORQUE, Entry
 from beltcalc.sim.drivefile.kinds import Kind
 
@@ -195,7 +195,7 @@ class PrescribedKind(MotorType):
             b.fail(e, "distance", "give an accel table or a move (distance, max_speed, max_accel), not both")
         if distance is None:
             return tuple(accel or ())
-        from beltcalc import profiles
+        from beltcalc.formulas import profiles
 
         speed, acc = b.need(e, "max_speed"), b.need(e, "max_accel")
         jerk = b.get(e, "jerk")

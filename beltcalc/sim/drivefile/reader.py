@@ -10,11 +10,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from beltcalc.errors import BeltcalcError, FloatRangeError, InputError, blame, did_you_mean, float_range
-from beltcalc.schema import Field, Quantity, Table, Whole
+from beltcalc.data.schema import Field, Quantity, Table, Whole
 from beltcalc.sim.drivefile.builder import Builder
 from beltcalc.sim.drivefile.keys import DriveFileError, DriveParam, Entry, read_drive_toml, text_of
 from beltcalc.sim.drivefile.registry import ELEMENTS, kind_of, sections
-from beltcalc.tomlsafe import shown_path
+from beltcalc.data.tomlsafe import shown_path
 
 
 @dataclass
@@ -41,7 +41,7 @@ class Drive:
 class DriveFile:
     """A drive file read and checked for structure (sections, keys, names), not yet built.
 
-    >>> from beltcalc.catalogs import builtin_dir
+    >>> from beltcalc.data.catalogs import builtin_dir
     >>> f = DriveFile(builtin_dir() / "drives" / "friswell_5_disks.toml")
     >>> [p.name for p in f.params()][:4]
     ['t_end', 'samples', 'window', 'disk1.inertia']

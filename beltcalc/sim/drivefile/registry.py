@@ -10,16 +10,16 @@ their pitch radii and add to their inertias), then each section's entries as the
 them.
 
 >>> SECTIONS
-('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load')
+('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load', 'damper')
 >>> KINDS
 ('induction', 'prescribed', 'speed_loop', 'torque')
 """
 
 from __future__ import annotations
 
-from beltcalc.schema import Field
-from beltcalc.sim.drivefile.kinds import (BeltSpanKind, ChainStrandKind, CouplingKind, GearKind, Head, Kind, LoadKind,
-                                          NodeKind, ShaftKind)
+from beltcalc.data.schema import Field
+from beltcalc.sim.drivefile.kinds import (BeltSpanKind, ChainStrandKind, CouplingKind, DamperKind, GearKind, Head, Kind,
+                                          LoadKind, NodeKind, ShaftKind)
 from beltcalc.sim.drivefile.motors import MotorKind
 
 #: section -> the kind of its entries, in the order a drive is built
@@ -32,6 +32,7 @@ ELEMENTS: dict[str, type[Kind]] = {kind.section: kind for kind in (
     ChainStrandKind,
     MotorKind,
     LoadKind,
+    DamperKind,
 )}
 
 # Views of the registry for readers of the format (the reader and the builder ask ELEMENTS

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from beltcalc.schema import Names, Quantity, Table, Text
+from beltcalc.data.schema import Names, Quantity, Table, Text
 from beltcalc.sim.drivefile.reader import DriveFile
 
 

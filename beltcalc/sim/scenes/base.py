@@ -91,7 +91,7 @@ class Scene:
     work-precision table compares; ``sweep_example`` and ``sweep_columns`` show a sweep;
     ``plot`` lists the panels of a time plot. ``load(ref)`` reads the scene file
     (``title``, ``source.path``, ``values``: name -> (text, why)); by default
-    :func:`beltcalc.scenefile.load_scene` for ``simulate <name>``. ``batch``: the rows a
+    :func:`beltcalc.data.scenefile.load_scene` for ``simulate <name>``. ``batch``: the rows a
     study may compute for many runs at once (:class:`BatchRow`; None: one run at a time).
     """
 
@@ -126,7 +126,7 @@ class Scene:
         if self.load is not None:
             scene = self.load(ref or self.file)
         else:
-            from beltcalc.scenefile import load_scene
+            from beltcalc.data.scenefile import load_scene
 
             scene = load_scene(ref or self.file, command=f"simulate {self.name}")
         return scene, resolve(scene, self.params, given)

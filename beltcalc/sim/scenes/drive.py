@@ -130,7 +130,7 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
 
 def damping_fit_check(drive) -> list:
     """The damping fit of the belt spans whose b was fitted to the catalog's F_tspec(n) (no
-    ``damping`` given), by the rule ``tension`` applies (:data:`beltcalc.checks.RULES`
+    ``damping`` given), by the rule ``tension`` applies (:data:`beltcalc.design.checks.RULES`
     ``damping_fit``, R^2 >= 0.9): the worst span's R^2, with how many fall below it. No
     fitted span: no check.
 
@@ -139,7 +139,7 @@ def damping_fit_check(drive) -> list:
     >>> c.value, c.verdict
     (0.659, 'FAIL')
     """
-    from beltcalc.checks import RULES
+    from beltcalc.design.checks import RULES
 
     if not drive.fits:
         return []

@@ -35,16 +35,16 @@ from typing import Iterable
 
 import numpy as np
 
-from beltcalc.drive import BeltAxis
-from beltcalc.dutycycle import CycleDuty
+from beltcalc.formulas.drive import BeltAxis
+from beltcalc.design.dutycycle import CycleDuty
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
-from beltcalc.profiles import Phase, Trapezoid
-from beltcalc.checks import RULES
+from beltcalc.formulas.profiles import Phase, Trapezoid
+from beltcalc.design.checks import RULES
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import Outcome, Scene, scene_values
-from beltcalc.sizing import PARAMS as AXIS_PARAMS
+from beltcalc.design.axis_inputs import PARAMS as AXIS_PARAMS
 
 DRIVES = ("prescribed", "speed-loop")
 BELT_MODELS = ("substitute", "chain")
@@ -76,7 +76,7 @@ class AxisModel:
     """What the dynamic model needs, SI: the rigid axis and its motion (from ``motor-size``),
     the motor, the belt's substitute parameters (from ``tension``), and the drive.
     ``profile`` is the move at the motor shaft with its dwell as the last phase; ``duty`` the
-    rigid answer of motor-size for this motor (:class:`beltcalc.dutycycle.CycleDuty`)."""
+    rigid answer of motor-size for this motor (:class:`beltcalc.design.dutycycle.CycleDuty`)."""
 
     axis: BeltAxis
     profile: Trapezoid          # at the motor shaft, the dwell its last phase
@@ -138,7 +138,7 @@ def reference_tables(model: AxisModel) -> tuple[tuple, tuple, tuple]:
     jerk phase, from its right limit at the start to its left limit at the end) and the
     rigid duty's torque piece by piece (linear on each piece of a trapezoid; the speed and
     torque tables are exact for trapezoids only, which is all the speed loop takes)."""
-    from beltcalc.dutycycle import poly_value
+    from beltcalc.design.polynomials import poly_value
 
     accel, speed = [], []
     t = 0.0
@@ -273,16 +273,16 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     """From the designer's data to the model: ``motor-size`` (the rigid axis, the move, the
     motor and its rigid duty) and ``tension`` (k_TB, b_TB and the pretension F_t,peak).
 
-    ``inp``: :class:`beltcalc.sizing.SizingInputs`; ``opts``:
-    :class:`beltcalc.sizing.DutyOptions` of the move (S-curve ``jerk``, ``move_time``;
+    ``inp``: :class:`beltcalc.design.axis_inputs.SizingInputs`; ``opts``:
+    :class:`beltcalc.design.sizing.DutyOptions` of the move (S-curve ``jerk``, ``move_time``;
     None: the trapezoid; a cycle, an incline or a gearbox efficiency are not simulated);
-    ``tension_inputs``: :class:`beltcalc.tension.TensionInputs` (its mass, width, centre
+    ``tension_inputs``: :class:`beltcalc.design.tension.TensionInputs` (its mass, width, centre
     distance and pulley diameter are taken from the axis). Returns (AxisModel, CycleSizing,
     TensionReport).
     """
-    from beltcalc.drive import motor_damping
-    from beltcalc.sizing import DutyOptions, size_cycle
-    from beltcalc.tension import design_tension
+    from beltcalc.formulas.drive import motor_damping
+    from beltcalc.design.sizing import DutyOptions, size_cycle
+    from beltcalc.design.tension import design_tension
 
     opts = DutyOptions() if opts is None else opts
     if opts.cycle is not None or opts.incline or opts.counterweight or opts.gearbox is not None \
@@ -316,9 +316,9 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
 
 
 def move_options(values: dict):
-    """The :class:`beltcalc.sizing.DutyOptions` of the scene's move parameters (``jerk``,
+    """The :class:`beltcalc.design.sizing.DutyOptions` of the scene's move parameters (``jerk``,
     ``move_time``, ``accel_fraction``, ``jerk_fraction``); none given: the trapezoid."""
-    from beltcalc.sizing import DutyOptions
+    from beltcalc.design.sizing import DutyOptions
 
     given = {k: values[k] for k in ("jerk", "move_time", "accel_fraction", "jerk_fraction")
              if values.get(k) is not None}
@@ -335,9 +335,9 @@ def prepare_scene(values: dict, substitute_mass_model: str = "eq7", motor: str |
     ``motor`` (default: motor-size's choice) from the built-in catalogs plus the files
     ``catalog``; m_TB by ``substitute_mass_model`` (``eq7`` or ``rayleigh``); the move by
     :func:`move_options`. Returns (AxisModel, CycleSizing, TensionReport)."""
-    from beltcalc.catalogs import load_catalog
-    from beltcalc.sizing import SizingInputs
-    from beltcalc.tension import TensionInputs
+    from beltcalc.data.catalogs import load_catalog
+    from beltcalc.design.axis_inputs import SizingInputs
+    from beltcalc.design.tension import TensionInputs
 
     cat = load_catalog(catalog)
     inp = SizingInputs.from_values(values, substitute_mass_model)

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Iterable, Mapping
 
-from beltcalc.checks import RULES
+from beltcalc.design.checks import RULES
 from beltcalc.errors import InputError
 from beltcalc.report import Column, Section
 from beltcalc.sim.scenes.run_checks import stall_line, stalls
@@ -24,7 +24,7 @@ class Outcome:
     result: object              # beltcalc.sim.result.SimResult
     sections: list[Section]
     notes: list[str] = field(default_factory=list)
-    checks: list = field(default_factory=list)      # beltcalc.checks.Check
+    checks: list = field(default_factory=list)      # beltcalc.design.checks.Check
     window: float | None = None                      # start of the steady window [s] (None: the asked one)
 
     def __post_init__(self):
@@ -34,7 +34,7 @@ class Outcome:
         if getattr(r, "error_estimate", None) is not None and r.extra.get("error_tol"):
             self.checks.append(RULES["error_estimate"].check(r.error_relative, r.extra["error_tol"],
                                                              detail=f"relative to the scale of {r.error_signal}"))
-        from beltcalc.checks import failures
+        from beltcalc.design.checks import failures
 
         for c in failures(self.checks):
             if c.key == "error_estimate" and r.extra.get("error_accepted"):

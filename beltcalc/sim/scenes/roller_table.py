@@ -40,8 +40,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from beltcalc.chain import load_split, placement_factor, sprocket_pitch_diameter, torsional_stiffness
-from beltcalc.drive import cylinder_inertia
+from beltcalc.formulas.chain import load_split, placement_factor, sprocket_pitch_diameter, torsional_stiffness
+from beltcalc.formulas.drive import cylinder_inertia
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param, Resolved
 from beltcalc.report import Row, Section
@@ -76,9 +76,9 @@ PARAMS += TIMING
 
 
 def catalog_chain(name: str):
-    """The chain ``name`` of the built-in catalogs (:class:`beltcalc.catalogs.Chain`, SI);
+    """The chain ``name`` of the built-in catalogs (:class:`beltcalc.data.catalogs.Chain`, SI);
     an unknown name is an error about ``chain`` (``scope="scene"``)."""
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
 
     with scene_values(("chain",)):
         return load_catalog().chain(name)

@@ -2,8 +2,8 @@
 (:func:`strand_check`), its periodic loads against its natural frequencies
 (:func:`resonance_check`), an induction motor's torque against its breakdown torque
 (:func:`motor_checks`) and whether the motor runs at all (:func:`stall_checks`,
-:func:`stalls`, :func:`stall_line`). Each is a :class:`~beltcalc.checks.Check` of a rule of
-:data:`beltcalc.checks.RULES`.
+:func:`stalls`, :func:`stall_line`). Each is a :class:`~beltcalc.design.checks.Check` of a rule of
+:data:`beltcalc.design.checks.RULES`.
 
 References:
 
@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from typing import Mapping
 
-from beltcalc.checks import RULES
+from beltcalc.design.checks import RULES
 
 
 #: The rule of a strand by the limit it is given (``limits[name] = (N, what)``): a chain's
@@ -29,7 +29,7 @@ STRAND_RULES = {"breaking load": "chain_safety", "F_Tadm": "belt_tension_member"
 def strand_check(net, result, limits: Mapping[str, tuple[float, str]], chain_param: str | None = "chain") -> list:
     """The strength check of the most loaded strand over the whole run, with how many
     strands fail theirs: a chain strand's breaking-load safety F_B / F against the same rule
-    (:data:`beltcalc.checks.RULES` ``chain_safety``) as ``chain`` (which takes F = K_s F_pull
+    (:data:`beltcalc.design.checks.RULES` ``chain_safety``) as ``chain`` (which takes F = K_s F_pull
     + q v^2: its service factor stands for the shocks a run computes), a belt strand's peak
     force against F_Tadm (``belt_tension_member``). ``limits[name] = (N, what)``, ``what``
     a key of :data:`STRAND_RULES`; the most loaded is the one of largest utilisation. A chain
@@ -81,7 +81,7 @@ def _stronger_chain(need: float, param: str | None) -> str:
     >>> _stronger_chain(25.18e3, "chain")
     'it needs a chain of F_B >= 25.18 kN at this peak force: `chain`=12B-1 (28.9 kN, the smallest one-strand chain of catalogs/chains.toml that has it), then run again (another pitch changes the sprockets and the force)'
     """
-    from beltcalc.catalogs import load_catalog
+    from beltcalc.data.catalogs import load_catalog
 
     text = f"it needs a chain of F_B >= {need / 1e3:.4g} kN at this peak force"
     fits = sorted((c for c in load_catalog().chains.values() if c.strands == 1 and c.breaking_load >= need),
@@ -101,7 +101,7 @@ def resonance_check(net, result, window: float) -> list:
     The check is the least relative separation ``|f_e - f_n| / f_n`` over the undamped
     natural frequencies ``f_n`` of the oscillatory modes (strands taut,
     :func:`beltcalc.sim.frequency.poles`) against the rule ``resonance`` of
-    :data:`beltcalc.checks.RULES` (an assumed margin of 10 %). No periodic
+    :data:`beltcalc.design.checks.RULES` (an assumed margin of 10 %). No periodic
     load, or no oscillatory mode: no check.
     """
     excitations = []
@@ -190,7 +190,7 @@ def stall_checks(torque: float, speed: float | None, breakdown: float, where: st
 
 def stalls(checks) -> list:
     """The failing checks of ``checks`` that mean the drive stalls (:data:`STALL_CHECKS`)."""
-    from beltcalc.checks import failures
+    from beltcalc.design.checks import failures
 
     return [c for c in failures(checks) if c.key in STALL_CHECKS]
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param
-from beltcalc.checks import RULES, Check
+from beltcalc.design.checks import RULES, Check
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import TIMING, BatchRow, Scene, check_timing, scene_values

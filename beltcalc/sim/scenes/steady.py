@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import Sequence
 
-from beltcalc.checks import RULES
+from beltcalc.design.checks import RULES
 from beltcalc.errors import InputError
 
 #: What may be left of a start-up transient at the start of the steady window, relative to

@@ -24,7 +24,7 @@ VERIFY_RTOL = 1e-9          # the chunk's check run: the batch's row against the
 @dataclass
 class RunRow:
     """One run: its inputs, every scalar it reports (key -> SI value), its failing checks
-    (:class:`~beltcalc.checks.Check`), its warnings, and ``error``: why it failed (None: it
+    (:class:`~beltcalc.design.checks.Check`), its warnings, and ``error``: why it failed (None: it
     ran), with the parameter the failure names (``param``)."""
 
     inputs: tuple[float, ...]
@@ -64,7 +64,7 @@ def run_one(plan: Plan, x: Sequence[float]) -> tuple[RunRow, list]:
         return RunRow(x, {}, error=f"{type(exc).__name__}: {exc}"), []
     except Exception as exc:                      # a defect: still a row, with its name
         return RunRow(x, {}, error=f"internal error: {type(exc).__name__}: {exc}"), []
-    from beltcalc.checks import failures
+    from beltcalc.design.checks import failures
 
     vals = {c.key: _finite(c.value) for c in cols}
     return RunRow(x, vals, tuple(failures(out.checks)), tuple(out.result.warnings)), cols

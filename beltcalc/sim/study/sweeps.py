@@ -104,7 +104,7 @@ class Sweep:
         return out
 
     def failed_checks(self) -> list:
-        """Every failing check of every run (:class:`~beltcalc.checks.Check`)."""
+        """Every failing check of every run (:class:`~beltcalc.design.checks.Check`)."""
         return [c for r in self.runs for c in r.failed]
 
     def _point_json(self, k: int) -> dict:
@@ -179,7 +179,7 @@ def sweep_scene(scene: Scene, values: Mapping[str, object], name: str, points: S
     if not keep_outcomes:
         step = None if progress is None else (lambda n: [progress() for _ in range(n)])
         return grid_scene(scene, values, [(name, points)], cfg, step, **options)
-    from beltcalc.checks import failures
+    from beltcalc.design.checks import failures
 
     outcomes, runs, columns = [], [], {}
     for v in points:

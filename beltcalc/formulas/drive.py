@@ -22,7 +22,7 @@ import math
 from dataclasses import dataclass
 
 from beltcalc.errors import require_positive, require_range
-from beltcalc.profiles import Trapezoid
+from beltcalc.formulas.profiles import Trapezoid
 
 G0 = 9.80665  # standard gravity [m/s^2]
 
@@ -242,7 +242,7 @@ def duty(profile: Trapezoid, inertia: float, damping: float, resistance_torque: 
 
     Examples
     --------
-    >>> from beltcalc.profiles import trapezoid
+    >>> from beltcalc.formulas.profiles import trapezoid
     >>> d = duty(trapezoid(100.0, 1000.0, 50.0, 0.2), 0.01, 0.001, 0.5)
     >>> round(d.peak_torque, 3), round(d.accel_energy, 3), round(d.accel_energy_exact, 4)
     (10.6, 106.0, 52.8333)

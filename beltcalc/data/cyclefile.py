@@ -35,10 +35,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from beltcalc.catalogs import SOURCE
-from beltcalc.schema import (QUANTITIES, Choice, Context, Entries, FieldError, Quantity, Record, Section, Text,
+from beltcalc.data.catalogs import SOURCE
+from beltcalc.data.schema import (QUANTITIES, Choice, Context, Entries, FieldError, Quantity, Record, Section, Text,
                              TomlFile)
-from beltcalc.sizing import MoveSpec
+from beltcalc.formulas.profiles import MoveSpec
 
 MAX_SEGMENTS = 10000
 LIMITS = {   # a move's limits, at the motor (rotation) or at the carriage: read as (value, unit)
@@ -75,9 +75,9 @@ class CycleFile:
 
 
 def load_cycle(path: str | Path) -> CycleFile:
-    """Read a cycle file into :class:`~beltcalc.sizing.MoveSpec` segments (SI).
+    """Read a cycle file into :class:`~beltcalc.formulas.profiles.MoveSpec` segments (SI).
 
-    >>> from beltcalc.catalogs import builtin_dir
+    >>> from beltcalc.data.catalogs import builtin_dir
     >>> c = load_cycle(builtin_dir() / "cycles" / "pick_place_vertical.toml")
     >>> [s.kind for s in c.segments][:3], c.segments[0].direction
     (['move', 'dwell', 'move'], -1)
@@ -96,8 +96,8 @@ def load_cycle(path: str | Path) -> CycleFile:
 
 
 def move_spec(values: dict, defaults: dict) -> MoveSpec:
-    """A segment's values (as :data:`SEGMENT` reads them) as a :class:`~beltcalc.sizing.MoveSpec`,
-    or a :class:`~beltcalc.schema.FieldError` at the key a move or a dwell may not have or
+    """A segment's values (as :data:`SEGMENT` reads them) as a :class:`~beltcalc.formulas.profiles.MoveSpec`,
+    or a :class:`~beltcalc.data.schema.FieldError` at the key a move or a dwell may not have or
     needs; ``defaults``: speed, accel, jerk of the moves that give none."""
     values = dict(values)
     kind, name, direction = values.pop("kind"), values.pop("name", ""), values.pop("direction", "+")
@@ -121,7 +121,7 @@ def move_spec(values: dict, defaults: dict) -> MoveSpec:
 def parse_segments(texts, what: str = "segment") -> tuple[MoveSpec, ...]:
     """Segments from texts ``KIND: KEY=VALUE, KEY=VALUE, ...`` (one per segment, in order), with
     the keys of a cycle file's ``[[segment]]`` (KIND ``move`` or ``dwell``): the same
-    :class:`~beltcalc.sizing.MoveSpec` as :func:`load_cycle` gives for the same segments.
+    :class:`~beltcalc.formulas.profiles.MoveSpec` as :func:`load_cycle` gives for the same segments.
     A move without speed, accel or jerk takes the caller's defaults (MoveSpec's None).
 
     A text that cannot be read is a :class:`~beltcalc.errors.UsageError` (``param=what``)
@@ -132,7 +132,7 @@ def parse_segments(texts, what: str = "segment") -> tuple[MoveSpec, ...]:
     [('move', 0.4, -1, 0.0), ('dwell', 0.0, 1, 0.0), ('move', 0.4, 1, 10.0)]
     """
     from beltcalc.errors import UsageError
-    from beltcalc.tomlsafe import quote
+    from beltcalc.data.tomlsafe import quote
 
     texts = list(texts)
     if len(texts) > MAX_SEGMENTS:

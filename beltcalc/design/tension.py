@@ -1,7 +1,7 @@
 """Belt tension design of a timing-belt linear axis: the belt's substitute model, the
 pretension it needs, the tensioner bolt torque and the span frequency to check it with.
 
-This composes :mod:`beltcalc.belt` and :mod:`beltcalc.screw` with catalog data
+This composes :mod:`beltcalc.formulas.belt` and :mod:`beltcalc.formulas.screw` with catalog data
 [W21 sec. 3]. SI floats only.
 
 References:
@@ -10,7 +10,7 @@ References:
     Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
     Model", Energies 14 (2021) 317.
 [VDI 2230] VDI 2230 Part 1 (2015), Systematic calculation of highly stressed bolted joints:
-    the bearing-face term of the tightening torque (see :mod:`beltcalc.screw`).
+    the bearing-face term of the tightening torque (see :mod:`beltcalc.formulas.screw`).
 """
 
 from __future__ import annotations
@@ -18,11 +18,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-from beltcalc import belt as bm
-from beltcalc.catalogs import BeltProfile, BeltWidth, Thread
-from beltcalc.checks import RULES, Check, failures
+from beltcalc.formulas import belt as bm
+from beltcalc.data.catalogs import BeltProfile, BeltWidth, Thread
+from beltcalc.design.checks import RULES, Check, failures
 from beltcalc.errors import InputError, require_positive, require_range
-from beltcalc.screw import BoltTorque, bolt_torque
+from beltcalc.formulas.screw import BoltTorque, bolt_torque
 from beltcalc.si import convert_fields
 
 
@@ -170,10 +170,10 @@ def belt_damping(inp: TensionInputs, belt: BeltProfile, teeth: float) -> tuple[f
 def design_tension(inp: TensionInputs, belt: BeltProfile, thread: Thread) -> TensionReport:
     """Substitute model, pretension, bolt torque and span frequency of one belt width.
 
-    [W21 eq. 7, 10-16] (see :mod:`beltcalc.belt`) and [W21 eq. 13] (see
-    :mod:`beltcalc.screw`).
+    [W21 eq. 7, 10-16] (see :mod:`beltcalc.formulas.belt`) and [W21 eq. 13] (see
+    :mod:`beltcalc.formulas.screw`).
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> cat = load_catalog()
     >>> inp = TensionInputs(center_distance=1.245, width=0.025, mass=50.0, accel=10.0,
     ...                     tension_accel=0.1, tension_speed=0.005, mu=0.2,
@@ -235,7 +235,7 @@ def tension_checks(belt: BeltProfile, inp: TensionInputs, force: float, f_tadm: 
     """The checks of a tension design: the belt's allowable tension, the damping fit's
     quality and the belt's mass against the carriage's (a plausibility check).
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> inp = TensionInputs(center_distance=1.245, width=0.025, mass=50.0, accel=10.0,
     ...                     tension_accel=0.1, tension_speed=0.005, mu=0.2, pulley_diameter=0.128)
     >>> [(c.key, c.verdict) for c in tension_checks(load_catalog().belt("AT10"), inp, 505.1, 2200.0, 0.142, None)]
@@ -267,7 +267,7 @@ def select_width(inp: TensionInputs, belt: BeltProfile, thread: Thread,
     The belt selection of [W21 Fig. 5], on the tension of [W21 eq. 10].
     Each width is designed in full, since m_TB and a fitted b_TB depend on it.
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> cat = load_catalog()
     >>> inp = TensionInputs(center_distance=1.245, width=0.0, mass=50.0, accel=10.0,
     ...                     tension_accel=0.1, tension_speed=0.005, mu=0.2,

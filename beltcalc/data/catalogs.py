@@ -5,7 +5,7 @@ A catalog file is TOML. It has a ``[source]`` table (``document``, optionally
 numeric key, and arrays of entries ``[[belts]]``, ``[[threads]]``, ``[[motors]]``,
 ``[[chains]]`` (any of them), or named ``[service_factors.NAME]`` tables. An entry may
 carry its own ``units`` (merged over the file's) and its own ``source`` string. The keys
-of each are declared once, as :mod:`beltcalc.schema` records (:data:`CATALOG_FILE`), which
+of each are declared once, as :mod:`beltcalc.data.schema` records (:data:`CATALOG_FILE`), which
 convert every number to SI once, here; no other module reads a catalog file or knows a
 catalog number.
 
@@ -23,13 +23,13 @@ from pathlib import Path
 from typing import Iterable
 
 from beltcalc.errors import CatalogError, UnknownNameError, did_you_mean
-from beltcalc.schema import Entries, Flag, List, Named, Names, Quantity, Record, Section, Text, TomlFile, Whole
-from beltcalc.tomlsafe import MAX_NAME, quote, shown_path
+from beltcalc.data.schema import Entries, Flag, List, Named, Names, Quantity, Record, Section, Text, TomlFile, Whole
+from beltcalc.data.tomlsafe import MAX_NAME, quote, shown_path
 
 
 def builtin_dir() -> Path:
     """Folder of the built-in catalogs (inside the wheel, or the checkout's top level)."""
-    here = Path(__file__).resolve().parent
+    here = Path(__file__).resolve().parents[1]        # beltcalc/ (this module is in beltcalc/data/)
     for candidate in (here / "catalogs", here.parent / "catalogs"):
         if candidate.is_dir():
             return candidate
@@ -496,7 +496,7 @@ def load_catalog(extra: Iterable[str | Path] = ()) -> Catalog:
     """Load the built-in catalogs plus the user's files ``extra`` (same format).
 
     Scenes (``catalogs/scenes/``), drive files (``catalogs/drives/``), duty cycles
-    (``catalogs/cycles/``), gearboxes (``catalogs/gearboxes/``, read by :mod:`beltcalc.gearboxes`)
+    (``catalogs/cycles/``), gearboxes (``catalogs/gearboxes/``, read by :mod:`beltcalc.design.gearboxes`)
     and shaft materials (``catalogs/materials.toml``, read by :mod:`beltcalc.sim.drivefile`) are
     not catalog files and are skipped. The built-in part comes from the cache
     (:func:`_builtin_catalog`) when its files are unchanged.
@@ -524,7 +524,7 @@ def _cache_file(files: list[Path]) -> Path | None:
     """Where the parsed built-in catalogs are kept: the user's cache folder (``$XDG_CACHE_HOME``
     or ``~/.cache``, then ``beltcalc``; ``$BELTCALC_CACHE`` instead, ``off`` for none), in a
     file named by the SHA-256 of every catalog file's bytes, of the code that reads them
-    (this module, :mod:`beltcalc.schema`, :mod:`beltcalc.tomlsafe`, :mod:`beltcalc.units`) and
+    (this module, :mod:`beltcalc.data.schema`, :mod:`beltcalc.data.tomlsafe`, :mod:`beltcalc.units`) and
     of the folder they are in (entries name their file): any edit or another checkout is a
     new name, never a stale read."""
     import hashlib
@@ -537,7 +537,8 @@ def _cache_file(files: list[Path]) -> Path | None:
         folder = os.path.join(base, "beltcalc")
     where = hashlib.sha256(str(builtin_dir().resolve()).encode()).hexdigest()[:12]   # entries name their file
     digest = hashlib.sha256()
-    code = [Path(__file__).with_name(name) for name in ("catalogs.py", "schema.py", "tomlsafe.py", "units.py")]
+    code = [Path(__file__).with_name(name) for name in ("catalogs.py", "schema.py", "tomlsafe.py")]
+    code.append(Path(__file__).parents[1] / "units.py")
     for path in [*files, *code]:
         digest.update(str(path.name).encode() + b"\0")
         try:

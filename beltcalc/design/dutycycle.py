@@ -7,7 +7,9 @@ Within a phase of constant jerk (the S-curve of [BM08 sec. 3.4]) the speed is a 
 of degree <= 2 and so is every torque; the pieces are cut where the load torque changes sign
 (the gearbox's efficiency changes with the direction of power flow) and where the motor
 torque changes sign (braking starts or ends), so that every integral below (T^2, T omega,
-the braking power) is the integral of a polynomial over an interval: exact, no samples.
+the braking power) is the integral of a polynomial over an interval: exact, no samples
+(:mod:`beltcalc.design.polynomials`). Regeneration (:mod:`beltcalc.design.regeneration`) and
+torque-speed zones (:mod:`beltcalc.design.zones`) read the :class:`CycleDuty` made here.
 Peaks are taken at both ends of every piece (left and right limits, because the acceleration
 of a trapezoid jumps at the phase ends) and at the vertex of each quadratic.
 
@@ -25,99 +27,19 @@ References
     inertia M D^2/4 and torque F D/2 [C04 eq. 3.21-3.27]; a gearbox of efficiency eta
     passes T_out = eta i T_in when driving; a back-driven gearbox passes
     T_in = eta_b T_out / i (power flows from the load to the motor) [C04 eq. 3.9-3.10].
-[Yaskawa] Yaskawa Sigma-7 AC servo drive product manual (SIEP S800001 28), "Calculating the
-    Required Capacity of Regenerative Resistors" ([Yaskawa sec. 12.8.6], "Selecting External
-    Regenerative Resistor: Calculating the Regenerative Energy"): the energy a braking event
-    returns is first stored in the SERVOPACK's DC-bus capacitors, E_C = C (U_max^2 - U_dc^2)
-    / 2; the rest, E_K, goes to the regenerative resistor, whose required capacity is
-    W_K = E_K / (0.2 T) (step 6; T the repeat cycle; note 1: 0.2 is the resistor's utilized
-    load ratio of 20 %). Its average power E_K / T is the heat it sheds; its peak power the
-    largest braking power.
 [BM08] L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots,
-    Springer (2008): the S-curve (see :mod:`beltcalc.profiles`).
-[NR3] W. H. Press, S. A. Teukolsky, W. T. Vetterling, B. P. Flannery, Numerical Recipes,
-    3rd ed., Cambridge University Press (2007): the quadratic formula.
+    Springer (2008): the S-curve (see :mod:`beltcalc.formulas.profiles`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from beltcalc.drive import G0, BeltAxis
+from beltcalc.formulas.drive import G0, BeltAxis
 from beltcalc.errors import InputError, require_positive, require_range
-from beltcalc.profiles import Phase, Trapezoid
-
-# --- polynomials as coefficient tuples (c0, c1, c2, ...) in the local time of a piece ----------
-
-
-def poly_value(p: tuple[float, ...], t: float) -> float:
-    out = 0.0
-    for c in reversed(p):
-        out = out * t + c
-    return out
-
-
-def _padd(*ps: tuple[float, ...]) -> tuple[float, ...]:
-    n = max(len(p) for p in ps)
-    return tuple(sum(p[k] for p in ps if k < len(p)) for k in range(n))
-
-
-def _pscale(p: tuple[float, ...], k: float) -> tuple[float, ...]:
-    return tuple(k * c for c in p)
-
-
-def poly_mul(p: tuple[float, ...], q: tuple[float, ...]) -> tuple[float, ...]:
-    out = [0.0] * (len(p) + len(q) - 1)
-    for i, a in enumerate(p):
-        for j, b in enumerate(q):
-            out[i + j] += a * b
-    return tuple(out)
-
-
-def poly_integral(p: tuple[float, ...], t: float) -> float:
-    """Integral of p from 0 to t (exact for a polynomial)."""
-    return sum(c * t ** (k + 1) / (k + 1) for k, c in enumerate(p))
-
-
-def _pshift(p: tuple[float, ...], t0: float) -> tuple[float, ...]:
-    """p(t0 + s) as a polynomial in s (degree <= 2 here)."""
-    c = list(p) + [0.0] * (3 - len(p))
-    if len(p) > 3:
-        raise ValueError("degree > 2")
-    return (c[0] + c[1] * t0 + c[2] * t0 * t0, c[1] + 2 * c[2] * t0, c[2])
-
-
-def _roots_inside(p: tuple[float, ...], duration: float) -> list[float]:
-    """Real roots of a polynomial of degree <= 2 strictly inside (0, duration), sorted.
-
-    Closed form with the cancellation-free quadratic formula [NR3 eq. 5.6.4]."""
-    c = list(p) + [0.0] * (3 - len(p))
-    c0, c1, c2 = c[0], c[1], c[2]
-    scale = max(abs(c0), abs(c1) * duration, abs(c2) * duration * duration)
-    if scale == 0.0:
-        return []
-    roots: list[float] = []
-    if abs(c2) * duration * duration <= 1e-15 * scale:
-        if abs(c1) * duration > 1e-15 * scale:
-            roots = [-c0 / c1]
-    else:
-        disc = c1 * c1 - 4 * c2 * c0
-        if disc >= 0:
-            q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
-            roots = [q / c2] + ([c0 / q] if q != 0 else [])
-    eps = 1e-12 * duration
-    return sorted(r for r in roots if eps < r < duration - eps)
-
-
-def _quad_min(p: tuple[float, ...], duration: float) -> tuple[float, float]:
-    """(minimum, where) of a polynomial of degree <= 2 on [0, duration]: ends and vertex."""
-    cands = [0.0, duration]
-    if len(p) > 2 and p[2] > 0:
-        v = -p[1] / (2 * p[2])
-        if 0 < v < duration:
-            cands.append(v)
-    return min((poly_value(p, t), t) for t in cands)
+from beltcalc.formulas.profiles import Phase, Trapezoid
+from beltcalc.design.polynomials import poly_add, poly_integral, poly_mul, poly_scale, poly_shift, poly_value, roots_inside
 
 
 # --- the axis and the cycle ------------------------------------------------------------------
@@ -432,12 +354,12 @@ def cycle_duty(drive: AxisDrive, segments, motor_inertia: float = 0.0, motor_dam
             w = (s * ph.speed0, s * ph.accel, s * 0.5 * ph.jerk)
             wd = (s * ph.accel, s * ph.jerk)
             moving = seg.kind == "move"
-            t_load = _padd(_pscale(wd, j_l), _pscale(w, b_l), (s * t_f * moving + t_s,))
-            motor_own = _padd(_pscale(wd, j_motor), _pscale(w, motor_damping))
-            cuts = [0.0, *_roots_inside(t_load, tau), tau] if moving else [0.0, tau]
+            t_load = poly_add(poly_scale(wd, j_l), poly_scale(w, b_l), (s * t_f * moving + t_s,))
+            motor_own = poly_add(poly_scale(wd, j_motor), poly_scale(w, motor_damping))
+            cuts = [0.0, *roots_inside(t_load, tau), tau] if moving else [0.0, tau]
             first = len(pieces)
             for a, b in zip(cuts, cuts[1:]):
-                wl, tl, mo = _pshift(w, a), _pshift(t_load, a), _pshift(motor_own, a)
+                wl, tl, mo = poly_shift(w, a), poly_shift(t_load, a), poly_shift(motor_own, a)
                 mid = 0.5 * (b - a)
                 flow = poly_value(tl, mid) * poly_value(wl, mid)
                 if not moving:
@@ -448,12 +370,12 @@ def cycle_duty(drive: AxisDrive, segments, motor_inertia: float = 0.0, motor_dam
                     factor = gb.eta_back
                 else:
                     factor = 1.0
-                torque = _padd(mo, _pscale(tl, factor))
+                torque = poly_add(mo, poly_scale(tl, factor))
                 # cut again where the motor torque changes sign (braking starts or ends)
-                sub = [0.0, *_roots_inside(torque, b - a), b - a] if moving else [0.0, b - a]
+                sub = [0.0, *roots_inside(torque, b - a), b - a] if moving else [0.0, b - a]
                 for c, d in zip(sub, sub[1:]):
-                    pieces.append(CyclePiece(k, ph.name, t0 + a + c, d - c, _pshift(wl, c), _pshift(tl, c),
-                                        _pshift(torque, c)))
+                    pieces.append(CyclePiece(k, ph.name, t0 + a + c, d - c, poly_shift(wl, c), poly_shift(tl, c),
+                                        poly_shift(torque, c)))
             mine = pieces[first:]
             sq = sum(poly_integral(poly_mul(p.torque, p.torque), p.duration) for p in mine)
             peak, piece, where = -1.0, mine[0], 0.0
@@ -561,199 +483,8 @@ def _vertices(p: tuple[float, ...], duration: float) -> list[float]:
     if len(deriv) <= 1:
         return []
     if len(deriv) <= 3:
-        return _roots_inside(deriv, duration)
+        return roots_inside(deriv, duration)
     import numpy as np  # degree 3 derivative: companion-matrix roots
 
     return [float(r.real) for r in np.roots(deriv[::-1])
             if abs(r.imag) <= 1e-9 * duration and 0 < r.real < duration]
-
-
-# --- regeneration -------------------------------------------------------------------------------
-
-# [Yaskawa sec. 12.8.6] step 6, note 1: a regenerative resistor is rated for a utilized load
-# ratio of 20 %, so its required capacity is W_K = E_K / (0.2 T), five times the cycle's average
-# braking power.
-RESISTOR_LOAD_RATIO = 0.2
-
-@dataclass(frozen=True)
-class Regeneration:
-    """Braking energy of a cycle against the drive's storage, and the braking resistor.
-
-    ``stored`` [J] the DC-bus capacitors take per braking event (None: not given, all of
-    it goes to the resistor); ``resistor_energy`` E_K [J] per cycle; ``resistor_rating`` the
-    resistor's required capacity W_K = E_K / (0.2 T) [W] ([Yaskawa sec. 12.8.6], the rating to buy);
-    ``resistor_power`` its average power E_K / T over the cycle [W] (not a rating);
-    ``resistor_peak_power`` [W]; ``resistance_max`` [ohm] the largest resistance that still
-    takes the peak power at the chopper voltage (None without it).
-    """
-
-    braking_energy: float
-    efficiency: float
-    stored: float | None
-    resistor_energy: float
-    resistor_power: float
-    resistor_peak_power: float
-    resistance_max: float | None
-    events: tuple[tuple[float, float, float], ...] = field(default=())  # (start, energy, to resistor)
-    resistor_rating: float = 0.0
-
-
-def capacitor_energy(capacitance: float, bus_voltage: float, chopper_voltage: float) -> float:
-    r"""Energy the DC-bus capacitors take between the bus voltage and the chopper threshold [J].
-
-    .. math:: E_C = \tfrac12 C (U_{max}^2 - U_{dc}^2)
-
-    Notes
-    -----
-    [Yaskawa sec. 12.8.6]: the regenerative energy a SERVOPACK can absorb without a resistor. U_dc is the
-    bus voltage at rest (about sqrt(2) x the mains voltage), U_max the voltage at which
-    the braking chopper switches the resistor in.
-
-    Examples
-    --------
-    >>> round(capacitor_energy(1.0e-3, 325.0, 380.0), 3)
-    19.387
-    """
-    require_positive("dc_bus_capacitance", capacitance, "F")
-    require_positive("dc_bus_voltage", bus_voltage, "V")
-    if not chopper_voltage > bus_voltage:
-        raise InputError(f"{chopper_voltage:g} V; the chopper voltage must be above the bus voltage "
-                         f"({bus_voltage:g} V)", param="chopper_voltage")
-    return 0.5 * capacitance * (chopper_voltage ** 2 - bus_voltage ** 2)
-
-
-def regeneration(duty: CycleDuty, stored: float | None = None, efficiency: float = 1.0,
-                 chopper_voltage: float | None = None) -> Regeneration:
-    r"""Braking resistor of a cycle: energy, continuous and peak power.
-
-    .. math::
-        E_i = \eta \int_{event\,i} \max(-T\omega, 0)\,dt, \quad
-        E_K = \sum_i \max(E_i - E_C, 0), \quad
-        W_K = E_K / (0.2\, t_{cyc}), \quad P_{R,avg} = E_K / t_{cyc}, \quad
-        P_{R,peak} = \eta \max(-T\omega), \quad R_{max} = U_{max}^2 / P_{R,peak}
-
-    Notes
-    -----
-    [Yaskawa sec. 12.8.6]; W_K (step 6) is the capacity to buy: a resistor is rated for a 20 % utilized load
-    ratio (:data:`RESISTOR_LOAD_RATIO`), so W_K is five times the average power. T is the
-    motor's electromagnetic torque, so T omega already has the motor's
-    modelled losses (b_M omega^2), the gearbox's back-driven efficiency and the friction
-    taken off; ``efficiency`` is what is lost further on the way to the DC bus (winding
-    and inverter; 1: the resistor must take all of it, the safe side). The capacitors
-    are taken as empty again at the start of each braking event (the motoring between
-    events draws them down), and as full when the peak occurs (the safe side for the
-    peak power).
-    """
-    require_range("regen_efficiency", efficiency, "", 0.0, 1.0, low_open=True)
-    cap = 0.0 if stored is None else stored
-    rows = []
-    total = 0.0
-    for ev in duty.events:
-        e = efficiency * ev.energy
-        to_r = max(e - cap, 0.0)
-        rows.append((ev.start, e, to_r))
-        total += to_r
-    peak = efficiency * duty.peak_braking_power
-    r_max = None
-    if chopper_voltage is not None and peak > 0:
-        r_max = chopper_voltage ** 2 / peak
-    return Regeneration(
-        braking_energy=duty.braking_energy, efficiency=efficiency, stored=stored, resistor_energy=total,
-        resistor_power=total / duty.cycle_time, resistor_peak_power=peak if total > 0 or stored is None else 0.0,
-        resistance_max=r_max if total > 0 else None, events=tuple(rows),
-        resistor_rating=total / (RESISTOR_LOAD_RATIO * duty.cycle_time))
-
-
-# --- torque-speed zones ------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class ZoneCheck:
-    """The smallest margin of the cycle's points (|omega|, |T|) below a torque-speed limit.
-
-    ``margin`` [N m] = T_lim(|omega|) - (1 + peak_margin) |T| at its smallest, at cycle time
-    ``time`` where the speed is ``speed`` and the torque ``torque`` against ``limit``."""
-
-    margin: float
-    time: float
-    speed: float
-    torque: float
-    limit: float
-    segment: int = -1
-    phase: str = ""
-
-    @property
-    def ok(self) -> bool:
-        return self.margin >= -1e-12 * max(abs(self.limit), 1.0)
-
-
-def zone_limit(points: tuple[tuple[float, float], ...], speed: float) -> float:
-    """The zone's torque at ``speed`` [N m], linear between its (speed, torque) points."""
-    for (w0, t0), (w1, t1) in zip(points, points[1:]):
-        if speed <= w1:
-            return t0 + (t1 - t0) * (speed - w0) / (w1 - w0)
-    return points[-1][1]
-
-
-def zone_check(duty: CycleDuty, points: tuple[tuple[float, float], ...], peak_margin: float = 0.0) -> ZoneCheck:
-    r"""Every point of the cycle against a torque-speed zone, exactly.
-
-    .. math:: g(t) = T_{lim}(|\omega(t)|) - (1 + m) |T(t)| \ge 0
-
-    ``points`` are (speed [rad/s], torque [N m]) from speed 0 up to the motor's maximum
-    speed, the limit linear between them. Speeds above the last point are not checked
-    here (the speed check covers them).
-
-    Notes
-    -----
-    Between two points of the zone the limit is linear in the speed; the speed is a
-    polynomial of degree <= 2 in time on each piece, and so is the torque: g is a
-    quadratic on each piece cut where |omega| crosses a point's speed, and its minimum is
-    at an end or at the vertex (exact). The servo makers' sizing tools check the same
-    (e.g. Yaskawa SigmaSelect: every operating point inside the intermittent zone).
-    """
-    require_range("peak_margin", peak_margin, "", low=0.0)
-    k = 1.0 + peak_margin
-    speeds = [w for w, _ in points]
-    best = None
-    for p in duty.pieces:
-        sign_w = 1.0 if poly_value(p.w, 0.5 * p.duration) >= 0 else -1.0
-        aw = _pscale(p.w, sign_w)
-        cuts = [0.0]
-        for w_k in speeds[1:]:
-            cuts += _roots_inside(_padd(aw, (-w_k,)), p.duration)
-        cuts = sorted(set(cuts)) + [p.duration]
-        for a, b in zip(cuts, cuts[1:]):
-            if b - a <= 0:
-                continue
-            mid_w = poly_value(aw, 0.5 * (a + b))
-            if mid_w > speeds[-1] * (1 + 1e-12):
-                continue
-            idx = max(0, min(len(points) - 2, next((i for i in range(len(points) - 1)
-                                                     if mid_w <= speeds[i + 1]), len(points) - 2)))
-            (w0, t0), (w1, t1) = points[idx], points[idx + 1]
-            slope = (t1 - t0) / (w1 - w0)
-            lim = _padd((t0 - slope * w0,), _pscale(_pshift(aw, a), slope))
-            tq = _pshift(p.torque, a)
-            sgn = 1.0 if poly_value(tq, 0.5 * (b - a)) >= 0 else -1.0
-            g = _padd(lim, _pscale(tq, -k * sgn))
-            val, where = _quad_min(g, b - a)
-            if best is None or val < best[0]:
-                wv = poly_value(aw, a + where)
-                best = (val, p.start + a + where, wv, poly_value(p.torque, a + where), poly_value(lim, where),
-                        p.segment, p.phase)
-    if best is None:
-        return ZoneCheck(math.inf, 0.0, 0.0, 0.0, points[0][1])
-    return ZoneCheck(*best)
-
-
-def assumed_zone(T_max: float, T_end: float, n_rated: float, n_max: float) -> tuple[tuple[float, float], ...]:
-    """The intermittent zone assumed when the catalog publishes none: T_max flat from 0 to
-    the rated speed, then falling linearly to ``T_end`` at the maximum speed.
-
-    >>> assumed_zone(4.46, 1.27, 314.16, 628.32)
-    ((0.0, 4.46), (314.16, 4.46), (628.32, 1.27))
-    """
-    require_range("zone_end_torque", T_end, "N*m", 0.0, T_max)
-    if n_max > n_rated:
-        return ((0.0, T_max), (n_rated, T_max), (n_max, T_end))
-    return ((0.0, T_max), (n_max, T_max))

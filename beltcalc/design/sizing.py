@@ -1,8 +1,8 @@
 """Motor sizing of a timing-belt linear axis: from the designer's data to the motor to buy.
 
-Composes :mod:`beltcalc.belt` (substitute belt mass), :mod:`beltcalc.drive` (the axis),
-:mod:`beltcalc.profiles` (motion), :mod:`beltcalc.dutycycle` (torque, energy, zones,
-regeneration) and :mod:`beltcalc.motors` (choice). One implementation: :func:`size_cycle`;
+Composes :mod:`beltcalc.formulas.belt` (substitute belt mass), :mod:`beltcalc.formulas.drive` (the axis),
+:mod:`beltcalc.formulas.profiles` (motion), :mod:`beltcalc.design.dutycycle` (torque, energy, zones,
+regeneration) and :mod:`beltcalc.design.motors` (choice). One implementation: :func:`size_cycle`;
 :func:`size_axis` (the public API) calls it, and :func:`sweep` uses the same exact cycle
 duty. SI floats only.
 
@@ -13,161 +13,25 @@ References:
     Model", Energies 14 (2021) 317: the energy of the acceleration phase [W21 eq. 29] and its
     sweeps [W21 Fig. 13-15].
 [BM08] L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots,
-    Springer (2008): the S-curve (see :mod:`beltcalc.profiles`).
+    Springer (2008): the S-curve (see :mod:`beltcalc.formulas.profiles`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Callable, Iterable, Mapping
+from typing import Callable, Iterable
 
-from beltcalc import belt as bm
-from beltcalc.catalogs import BeltProfile, Motor
-from beltcalc.checks import RULES, Check, failures
-from beltcalc.drive import BeltAxis, cylinder_inertia
-from beltcalc.dutycycle import (CycleDuty, AxisDrive, Gearbox, Mounting, Regeneration, Segment, capacitor_energy,
-                                regeneration)
+from beltcalc.formulas import belt as bm
+from beltcalc.data.catalogs import BeltProfile, Motor
+from beltcalc.design.checks import RULES, Check, failures
+from beltcalc.formulas.drive import BeltAxis, cylinder_inertia
+from beltcalc.design.dutycycle import CycleDuty, AxisDrive, Gearbox, Mounting, Segment
+from beltcalc.design.regeneration import capacitor_energy, Regeneration, regeneration
 from beltcalc.errors import InputError, require_positive, require_range
-from beltcalc.motors import Choice, MotorCheck, check_cycle, choose_for_cycle, motor_checks
-from beltcalc.params import Param
-from beltcalc.si import convert_fields
-from beltcalc.profiles import Trapezoid, move_by_time, scurve, trapezoid
-
-# The parameters of a belt axis and its move, as a scene file (wdu.toml) gives them.
-PARAMS = [
-    Param("belt", None, "Belt profile (gives the substitute belt mass m_TB)."),
-    Param("width", "m", "Belt width (a catalog width)."),
-    Param("center_distance", "m", "Pulley center distance."),
-    Param("mass", "kg", "Moving mass (carriage)."),
-    Param("pulley_teeth", "int", "Teeth of the drive and idler pulleys (d0 = z P / pi)."),
-    Param("pulley_diameter", "m", "Pulley pitch diameter D, instead of the teeth.", required=False),
-    Param("pulley_width", "m", "Pulley body width (for its inertia)."),
-    Param("pulley_bore", "m", "Pulley bore (for its inertia)."),
-    Param("pulley_density", "kg/m^3", "Pulley material density (for its inertia)."),
-    Param("pulley_inertia", "kg*m^2", "Drive pulley inertia J_P1, instead of the computed one.", required=False),
-    Param("idler_inertia", "kg*m^2", "Idler pulley inertia J_P2, instead of the computed one.", required=False),
-    Param("coupling_inertia", "kg*m^2", "Coupling inertia J_C (drive-pulley shaft)."),
-    Param("gearbox_inertia", "kg*m^2", "Gearbox inertia at the motor shaft J_G."),
-    Param("load_inertia", "kg*m^2", "Rotating load on the idler shaft J_RL.", required=False),
-    Param("gear_ratio", "", "Gearbox ratio i = motor speed / pulley speed (1: direct drive)."),
-    Param("belt_ratio", "", "Belt transmission ratio n = D2 / D1."),
-    Param("resistance", "N", "External resistance force F_R against the motion."),
-    Param("guide_friction", "", "Guide friction coefficient (ball 0.002-0.003, roller 0.001-0.002)."),
-    Param("guide_damping", "N*s/m", "Guide viscous damping b_LG."),
-    Param("bearing_damping", "N*m*s/rad", "Viscous damping b_B of each pulley shaft."),
-    Param("motor_efficiency", "", "Motor efficiency (gives b_M = (1 - eta) T_n / omega_n)."),
-    Param("speed", "rad/s|m/s", "Maximum speed: at the motor (3000rpm) or the carriage (2m/s)."),
-    Param("accel", "rad/s^2|m/s^2", "Acceleration: at the motor (500rad/s^2) or the carriage (10m/s^2)."),
-    Param("stroke", "m", "Carriage travel of one move."),
-    Param("dwell", "s", "Standstill after each move."),
-    Param("inertia_ratio_limit", "", "Largest load/motor inertia ratio allowed."),
-    Param("peak_margin", "", "Margin on the peak torque: peak * (1 + margin) <= T_max."),
-]
-
-
-# Where each value of PARAMS is measured: the motor's side of the gearbox or the carriage's
-# (the belt, pulleys and guides turn or move with the carriage, after the gearbox).
-WHERE = {
-    "belt": "carriage side: the belt between the pulleys",
-    "width": "carriage side: belt width",
-    "center_distance": "carriage side: drive to idler pulley",
-    "mass": "carriage side: the carriage",
-    "pulley_teeth": "carriage side: drive and idler pulleys, after the gearbox",
-    "pulley_diameter": "carriage side: drive pulley, after the gearbox",
-    "pulley_width": "carriage side: pulley bodies",
-    "pulley_bore": "carriage side: pulley bodies",
-    "pulley_density": "carriage side: pulley bodies",
-    "pulley_inertia": "carriage side: drive-pulley shaft (gearbox output)",
-    "idler_inertia": "carriage side: idler shaft",
-    "coupling_inertia": "carriage side: drive-pulley shaft (gearbox output)",
-    "gearbox_inertia": "motor side: at the gearbox input",
-    "load_inertia": "carriage side: idler shaft",
-    "gear_ratio": "motor speed / drive-pulley speed",
-    "belt_ratio": "carriage side: idler / drive pulley diameter",
-    "resistance": "carriage side: force on the carriage",
-    "guide_friction": "carriage side: carriage guide",
-    "guide_damping": "carriage side: carriage guide",
-    "bearing_damping": "carriage side: each pulley shaft",
-    "motor_efficiency": "motor side: the motor",
-    "speed": ("motor side: motor shaft", "carriage side: carriage"),
-    "accel": ("motor side: motor shaft", "carriage side: carriage"),
-    "stroke": "carriage side: carriage travel per move",
-    "dwell": "the cycle: standstill after each move",
-    "inertia_ratio_limit": "motor side: load / rotor inertia at the motor shaft",
-    "peak_margin": "motor side: on the motor's peak torque",
-}
-
-
-def where(name: str, value: object = None) -> str:
-    """Where the value ``name`` of :data:`PARAMS` is measured (:data:`WHERE`); a speed or
-    an acceleration by its unit (``value`` is ``(float, unit)``: rad/s at the motor, m/s at
-    the carriage).
-
-    >>> where("gearbox_inertia"), where("speed", (2.0, "m/s"))
-    ('motor side: at the gearbox input', 'carriage side: carriage')
-    """
-    w = WHERE[name]
-    if isinstance(w, tuple):
-        unit = value[1] if isinstance(value, tuple) else ""
-        return w[0] if unit.startswith("rad") else w[1]
-    return w
-
-
-@dataclass(frozen=True)
-class SizingInputs:
-    """Everything ``beltcalc motor-size`` needs, SI. ``speed``/``accel`` carry their kind:
-    ``speed_unit`` "rad/s" (motor) or "m/s" (carriage), ``accel_unit`` "rad/s^2" or
-    "m/s^2". ``pulley_diameter`` / ``pulley_inertia`` / ``idler_inertia`` = None are
-    computed from the pulley teeth and geometry."""
-
-    mass: float
-    width: float
-    center_distance: float
-    pulley_teeth: int
-    pulley_width: float
-    pulley_bore: float
-    pulley_density: float
-    coupling_inertia: float
-    gearbox_inertia: float
-    gear_ratio: float
-    belt_ratio: float
-    resistance: float
-    guide_friction: float
-    guide_damping: float
-    bearing_damping: float
-    motor_efficiency: float
-    speed: float
-    speed_unit: str
-    accel: float
-    accel_unit: str
-    stroke: float
-    dwell: float
-    inertia_ratio_limit: float = 10.0
-    peak_margin: float = 0.0
-    substitute_mass_model: str = "eq7"
-    pulley_diameter: float | None = None
-    pulley_inertia: float | None = None
-    idler_inertia: float | None = None
-    load_inertia: float = 0.0
-
-    def __post_init__(self):
-        # pint quantities: the units of PARAMS; speed and accel in the SI unit of their kind
-        units = {p.name: p.unit for p in PARAMS if p.unit not in (None, "int") and "|" not in p.unit}
-        convert_fields(self, {**units, "speed": self.speed_unit, "accel": self.accel_unit,
-                              "inertia_ratio_limit": "", "peak_margin": ""})
-
-    @classmethod
-    def from_values(cls, values: Mapping[str, object], substitute_mass_model: str = "eq7") -> SizingInputs:
-        """The inputs from the SI values of :data:`PARAMS` (``belt`` and other keys are not
-        read); ``speed`` and ``accel`` are ``(value, unit)`` as :class:`~beltcalc.params.Param`
-        reads them."""
-        fields = {p.name: values[p.name] for p in PARAMS if p.name in values and p.name != "belt"}
-        speed, speed_unit = fields.pop("speed")
-        accel, accel_unit = fields.pop("accel")
-        return cls(**fields, speed=speed, speed_unit=speed_unit, accel=accel, accel_unit=accel_unit,
-                   substitute_mass_model=substitute_mass_model)
-
+from beltcalc.design.motors import Choice, MotorCheck, check_cycle, choose_for_cycle, motor_checks
+from beltcalc.formulas.profiles import MoveSpec, Trapezoid, move_by_time, scurve, trapezoid
+from beltcalc.design.axis_inputs import SizingInputs
 
 def build_axis(inp: SizingInputs, belt: BeltProfile) -> tuple[BeltAxis, float]:
     """The rigid axis (without motor) and the belt's substitute mass m_TB [kg]."""
@@ -219,7 +83,7 @@ def size_axis(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor: 
 
     ``motor`` (optional) is a motor to report on whatever the recommendation.
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> cat = load_catalog()
     >>> inp = SizingInputs(mass=50.0, width=0.025, center_distance=1.245, pulley_teeth=40,
     ...     pulley_width=0.03, pulley_bore=0.02, pulley_density=2700.0, coupling_inertia=2e-5,
@@ -267,8 +131,8 @@ def sweep(inp: SizingInputs, belt: BeltProfile, motor: Motor | None, name: str,
 
     ``unit`` tells whether the values are at the motor ("rad/s", "rad/s^2") or the carriage.
     """
-    from beltcalc.drive import motor_damping
-    from beltcalc.dutycycle import cycle_duty, single_move
+    from beltcalc.formulas.drive import motor_damping
+    from beltcalc.design.dutycycle import cycle_duty, single_move
 
     if name not in SWEEPABLE:
         raise InputError(f"cannot sweep {name!r}; sweepable: {', '.join(SWEEPABLE)}", param="sweep")
@@ -306,31 +170,6 @@ def energy_eq29_closed_form(inertia: float, damping: float, resistance_torque: f
 
 
 # --- duty cycles (issue 14): S-curves, several segments, inclines, zones, regeneration -----------
-
-@dataclass(frozen=True)
-class MoveSpec:
-    """One segment of a cycle as the designer gives it, SI. ``kind`` "move" or "dwell".
-
-    A move: ``distance`` [m] of carriage travel, ``direction`` +1/-1, and either the
-    limits ``speed``/``accel``/``jerk`` as ``(value, unit)`` with unit "rad/s" (motor) or
-    "m/s" (carriage) etc. (None: the cycle's defaults; ``jerk`` None: a trapezoid), or
-    ``time`` [s] with ``accel_fraction`` T_a/T and ``jerk_fraction`` T_j/T_a. A dwell:
-    ``time`` [s]. ``payload`` [kg] and ``force`` [N] as :class:`beltcalc.dutycycle.Segment`.
-    """
-
-    kind: str
-    name: str = ""
-    distance: float = 0.0
-    direction: int = 1
-    time: float | None = None
-    speed: tuple[float, str] | None = None
-    accel: tuple[float, str] | None = None
-    jerk: tuple[float, str] | None = None
-    accel_fraction: float = 1.0 / 3.0
-    jerk_fraction: float = 0.0
-    payload: float = 0.0
-    force: float = 0.0
-
 
 @dataclass(frozen=True)
 class DutyOptions:
@@ -481,7 +320,7 @@ def out_and_back(profile: Trapezoid, dwell: float, incline: float) -> tuple[Segm
     left out). The way down returns the potential energy: without it the braking energy
     and the resistor would be those of half a cycle that never closes.
 
-    >>> from beltcalc.profiles import trapezoid
+    >>> from beltcalc.formulas.profiles import trapezoid
     >>> [(g.name, g.direction) for g in out_and_back(trapezoid(100.0, 1000.0, 50.0), 0.5, 1.5708)]
     [('up', 1), ('dwell at the top', 1), ('down', -1), ('dwell at the bottom', 1)]
     """
@@ -502,7 +341,7 @@ def jerk_limited(segments, k: float) -> list[str]:
     theta < 2 a^3 / j^2, neither is reached). ``k`` [m/rad] converts the motor's acceleration
     to the carriage's.
 
-    >>> from beltcalc.profiles import scurve
+    >>> from beltcalc.formulas.profiles import scurve
     >>> jerk_limited([Segment("move", "move", profile=scurve(100.0, 1000.0, 2000.0, 500.0))], 0.01)[0][:57]
     'move: the jerk limit (20 m/s^3 at the carriage, 2000 rad/'
     """
@@ -530,7 +369,7 @@ def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor:
     With the default ``opts`` it is today's single trapezoidal move, horizontally, through
     an ideal gearbox: the same numbers as :func:`size_axis` (to rounding).
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> cat = load_catalog()
     >>> inp = SizingInputs(mass=50.0, width=0.025, center_distance=1.245, pulley_teeth=40,
     ...     pulley_width=0.03, pulley_bore=0.02, pulley_density=2700.0, coupling_inertia=2e-5,
@@ -622,8 +461,8 @@ def move_energy(segments, duty) -> tuple[float, float, float]:
     [W21 eq. 29] with T_max the cycle's peak torque, beside the exact
     integral of the power over the move's acceleration phases (a polynomial per piece).
     """
-    from beltcalc.dutycycle import poly_integral, poly_mul
-    from beltcalc.profiles import ACCEL_PHASES
+    from beltcalc.design.polynomials import poly_integral, poly_mul
+    from beltcalc.formulas.profiles import ACCEL_PHASES
 
     seg_index = next(k for k, seg in enumerate(segments) if seg.kind == "move")
     prof = segments[seg_index].profile

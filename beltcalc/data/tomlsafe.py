@@ -2,7 +2,7 @@
 size and nesting bounded (:func:`read_toml`), keys and texts printable names and texts
 (:func:`text_problem`), a key path, a file path and a value cut and escaped for one line of
 message (:func:`shown_key`, :func:`shown_path`, :func:`shown`). What every file reader of
-beltcalc (:mod:`beltcalc.schema`) stands on; pint and TOML are not imported here.
+beltcalc (:mod:`beltcalc.data.schema`) stands on; pint and TOML are not imported here.
 """
 
 from __future__ import annotations

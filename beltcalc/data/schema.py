@@ -22,7 +22,7 @@ a :class:`~beltcalc.errors.CatalogError` (exit 1). Text given on the command lin
 (``motor-size --segment``) reads through the same fields and says the same, as a usage
 error (exit 2).
 
-A file's bytes are read by :func:`beltcalc.tomlsafe.read_toml` (bounded size and depth,
+A file's bytes are read by :func:`beltcalc.data.tomlsafe.read_toml` (bounded size and depth,
 keys that are names). Importing this module is cheap: TOML and pint come on first use.
 
 >>> SPAN = Record({"length": Quantity("m", help="free span length", required=True, low=">0"),
@@ -32,7 +32,7 @@ keys that are names). Importing this module is cheap: TOML and pint come on firs
 >>> SPAN.read({"length": "-1 m"}, Context(TEXTS), "belt_span[0]")
 Traceback (most recent call last):
 ...
-beltcalc.schema.FieldError: -1 m is not allowed; it must be > 0 m
+beltcalc.data.schema.FieldError: -1 m is not allowed; it must be > 0 m
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ from functools import lru_cache
 from typing import ClassVar, Mapping
 
 from beltcalc.errors import CatalogError, did_you_mean
-from beltcalc.tomlsafe import join, quote, read_toml, shown, shown_key, shown_path, text_problem
+from beltcalc.data.tomlsafe import join, quote, read_toml, shown, shown_key, shown_path, text_problem
 
 
 # --- errors and notations ----------------------------------------------------------------------
@@ -271,7 +271,7 @@ class Flag(Field):
 @dataclass(frozen=True, eq=False)
 class Text(Field):
     """A text: printable (newlines and tabs allowed); a ``name`` is one printable line
-    (:func:`~beltcalc.tomlsafe.text_problem`). A required text, and one that is ``filled``,
+    (:func:`~beltcalc.data.tomlsafe.text_problem`). A required text, and one that is ``filled``,
     is not empty. ``numbers``: a number is taken as its text (``5.0`` -> ``"5.0"``)."""
 
     name: bool = False

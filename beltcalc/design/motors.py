@@ -21,14 +21,15 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Sequence
 
-from beltcalc.catalogs import Motor
-from beltcalc.checks import RULES, Check, percent
-from beltcalc.drive import BeltAxis, Duty, duty, motor_damping
+from beltcalc.data.catalogs import Motor
+from beltcalc.design.checks import RULES, Check, percent
+from beltcalc.formulas.drive import BeltAxis, Duty, duty, motor_damping
 from beltcalc.errors import InputError, require_positive, require_range
-from beltcalc.profiles import Trapezoid
+from beltcalc.formulas.profiles import Trapezoid
 
 if TYPE_CHECKING:
-    from beltcalc.dutycycle import CycleDuty, AxisDrive, Segment, ZoneCheck
+    from beltcalc.design.dutycycle import CycleDuty, AxisDrive, Segment
+    from beltcalc.design.zones import ZoneCheck
 
 BAND = (0.5, 1.0)  # preferred RMS utilisation of the rated torque
 
@@ -123,9 +124,9 @@ def check_motor(axis: BeltAxis, profile: Trapezoid, motor: Motor, efficiency: fl
                 ratio_limit: float = 10.0, peak_margin: float = 0.0) -> MotorCheck:
     """Duty of ``axis`` on ``profile`` driven by ``motor``, and the four pass/fail checks.
 
-    The flat checks of DESIGN.md 2.5 on one trapezoid (:func:`beltcalc.drive.duty`'s closed
+    The flat checks of DESIGN.md 2.5 on one trapezoid (:func:`beltcalc.formulas.drive.duty`'s closed
     form), kept as the reference the cycle checks reduce to; ``motor-size`` and
-    :func:`beltcalc.sizing.size_axis` use :func:`check_cycle`, which adds the torque-speed zone.
+    :func:`beltcalc.design.sizing.size_axis` use :func:`check_cycle`, which adds the torque-speed zone.
 
     ``efficiency`` is used when the catalog has none for the motor; it gives the
     motor's viscous loss b_M = (1 - eta) T_n / omega_n.
@@ -151,8 +152,8 @@ def choose_motor(axis: BeltAxis, profile: Trapezoid, motors: list[Motor], effici
     Raises :class:`InputError` (param ``speed``) when the move is faster than every
     motor's maximum speed: no motor of the catalog can run it.
 
-    >>> from beltcalc.catalogs import load_catalog
-    >>> from beltcalc.profiles import trapezoid
+    >>> from beltcalc.data.catalogs import load_catalog
+    >>> from beltcalc.formulas.profiles import trapezoid
     >>> axis = BeltAxis(mass=5.0, substitute_mass=0.0, pulley_diameter=0.05,
     ...                 pulley_inertia=2e-5, idler_inertia=2e-5)
     >>> c = choose_motor(axis, trapezoid(157.0, 2000.0, 200.0, 0.3),
@@ -200,7 +201,7 @@ def intermittent_zone(motor: Motor, end_fraction: float | None = None) -> tuple[
     """The motor's intermittent (peak) torque-speed zone and whether it is assumed.
 
     The catalog's ``intermittent`` points when it has them; otherwise the assumption of
-    :func:`beltcalc.dutycycle.assumed_zone`: T_max flat up to the rated speed, then
+    :func:`beltcalc.design.zones.assumed_zone`: T_max flat up to the rated speed, then
     linear down to ``end_fraction`` x T_max at the maximum speed (``None``: down to the
     rated torque T_n). Servo data sheets (e.g. Yaskawa Sigma-7, "Torque-Motor Speed
     Characteristics") show the intermittent zone flat at T_max up to a corner speed at or
@@ -211,7 +212,7 @@ def intermittent_zone(motor: Motor, end_fraction: float | None = None) -> tuple[
     own = getattr(motor, "intermittent", ())
     if own:
         return tuple(own), False
-    from beltcalc.dutycycle import assumed_zone
+    from beltcalc.design.zones import assumed_zone
 
     end = motor.T_n if end_fraction is None else end_fraction * motor.T_max
     return assumed_zone(motor.T_max, end, motor.n_rated, motor.n_max), True
@@ -226,7 +227,8 @@ def check_cycle(drive: "AxisDrive", segments: "Sequence[Segment]", motor: Motor,
     The inertia ratio is the load's (the largest payload of the cycle, through the
     gearbox, with the gearbox's own inertia) over the rotor's.
     """
-    from beltcalc.dutycycle import cycle_duty, zone_check, zone_limit
+    from beltcalc.design.dutycycle import cycle_duty
+    from beltcalc.design.zones import zone_check, zone_limit
 
     eta = motor.efficiency if motor.efficiency is not None else efficiency
     b_m = motor_damping(eta, motor.T_n, motor.n_rated)

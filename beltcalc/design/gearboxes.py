@@ -29,10 +29,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Iterable
 
-from beltcalc.catalogs import ENTRY_TEXTS, SOURCE, builtin_dir, file_source
-from beltcalc.dutycycle import Gearbox
+from beltcalc.data.catalogs import ENTRY_TEXTS, SOURCE, builtin_dir, file_source
+from beltcalc.design.dutycycle import Gearbox
 from beltcalc.errors import UnknownNameError, did_you_mean
-from beltcalc.schema import Entries, Quantity, Record, Section, Text, TomlFile
+from beltcalc.data.schema import Entries, Quantity, Record, Section, Text, TomlFile
 from beltcalc.units import quote
 
 GEARBOX = Record({

@@ -4,7 +4,7 @@ value as text with its unit and the reason it has that value.
 A scene file has a ``[source]`` table (as a catalog file's), a ``[scene]`` table (``title``,
 the ``command`` it is for, optionally a ``base`` scene whose values it inherits and
 overrides) and a ``[parameters]`` table of ``name = { value = "50 kg", why = "..." }``. The
-keys are :data:`SCENE_FILE`'s (:mod:`beltcalc.schema`); the command that uses a scene
+keys are :data:`SCENE_FILE`'s (:mod:`beltcalc.data.schema`); the command that uses a scene
 converts its values.
 """
 
@@ -13,10 +13,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from beltcalc.catalogs import SOURCE, Source, builtin_dir, file_source
+from beltcalc.data.catalogs import SOURCE, Source, builtin_dir, file_source
 from beltcalc.errors import UnknownNameError, did_you_mean
-from beltcalc.schema import Named, Record, Section, Text, TomlFile
-from beltcalc.tomlsafe import MAX_NAME, quote
+from beltcalc.data.schema import Named, Record, Section, Text, TomlFile
+from beltcalc.data.tomlsafe import MAX_NAME, quote
 
 SCENE = Record({
     "title": Text(help="what the scene is"),

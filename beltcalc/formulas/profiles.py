@@ -298,3 +298,28 @@ def move_by_time(stroke: float, move_time: float, accel_fraction: float = 1.0 / 
     jerk = accel / t_j if t_j > 0 else math.inf
     t_c = move_time - 2.0 * t_a
     return _double_s(speed, accel, jerk, t_j, t_a, t_c, stroke, dwell, t_c <= 0, (speed, accel, jerk))
+
+
+@dataclass(frozen=True)
+class MoveSpec:
+    """One segment of a cycle as the designer gives it, SI. ``kind`` "move" or "dwell".
+
+    A move: ``distance`` [m] of carriage travel, ``direction`` +1/-1, and either the
+    limits ``speed``/``accel``/``jerk`` as ``(value, unit)`` with unit "rad/s" (motor) or
+    "m/s" (carriage) etc. (None: the cycle's defaults; ``jerk`` None: a trapezoid), or
+    ``time`` [s] with ``accel_fraction`` T_a/T and ``jerk_fraction`` T_j/T_a. A dwell:
+    ``time`` [s]. ``payload`` [kg] and ``force`` [N] as :class:`beltcalc.design.dutycycle.Segment`.
+    """
+
+    kind: str
+    name: str = ""
+    distance: float = 0.0
+    direction: int = 1
+    time: float | None = None
+    speed: tuple[float, str] | None = None
+    accel: tuple[float, str] | None = None
+    jerk: tuple[float, str] | None = None
+    accel_fraction: float = 1.0 / 3.0
+    jerk_fraction: float = 0.0
+    payload: float = 0.0
+    force: float = 0.0

@@ -12,14 +12,14 @@ References:
     2 strands no. 160, 3 and 4 strands no. 140. [Shigley sec. 17-5]: "for smooth operation
     at moderate and high speeds ... a driving sprocket with at least 17 teeth"; "driven
     sprockets are not made in standard sizes over 120 teeth"; the most successful drives
-    have ratios up to 6:1; the galling speed limit (:func:`beltcalc.chain.galling_speed`),
+    have ratios up to 6:1; the galling speed limit (:func:`beltcalc.formulas.chain.galling_speed`),
     the Type C' region of [Shigley table 17-20] ("submit design to manufacturer for
     evaluation").
 [ISO 10823] ISO 10823:2004, Guidance on the selection of roller chain drives: corrected
     power = power x service factor x tooth factor (19 / z_1)^1.08, i.e. the same z_1^1.08
     law as [Shigley eq. 17-32].
 [ISO 606] ISO 606:2004, Short-pitch transmission precision roller and bush chains,
-    attachments and associated chain sprockets: the sprockets (:mod:`beltcalc.chain`).
+    attachments and associated chain sprockets: the sprockets (:mod:`beltcalc.formulas.chain`).
 [Diamond guide] Diamond Chain, technical engineering guide: the load in service should
     never exceed 1/6 of the minimum ultimate tensile strength.
 [McGuire] McGuire Bearing Company, "Better chain performance": the highest chain speed of
@@ -47,9 +47,9 @@ import math
 from dataclasses import dataclass, field
 from typing import Iterable
 
-from beltcalc import chain as cm
-from beltcalc.catalogs import Chain
-from beltcalc.checks import RULES, Check, failures
+from beltcalc.formulas import chain as cm
+from beltcalc.data.catalogs import Chain
+from beltcalc.design.checks import RULES, Check, failures
 from beltcalc.errors import InputError, require_positive, require_range
 
 HORSEPOWER = 745.69987158227022        # W, mechanical horsepower (550 ft lbf/s)
@@ -265,7 +265,7 @@ def select_chain(inp: ChainInputs, chains: Iterable[Chain], name: str | None = N
 
     The example is [Shigley Example 17-5]:
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> r = select_chain(ChainInputs(speed=300 * RPM, power=90 * HORSEPOWER, service_factor=1.3,
     ...                              design_factor=1.5, center_pitches=25), load_catalog().chains.values())
     >>> {k: c.chain.name for k, c in sorted(r.best_per_strands.items())}

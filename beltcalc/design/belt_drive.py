@@ -1,26 +1,19 @@
 """The checks a designer signs off for a timing-belt drive: geometry, tooth shear, tension
-member, pulley size, shaft load, installation tension and its span frequency. SI floats.
+member, pulley size, shaft load, installation tension and its span frequency, on the formulas
+of :mod:`beltcalc.formulas.belt_capacity`. SI floats.
 
 References:
 
-[Elatech] Elatech timing-belt catalogue (Goodyear Elatech PT belt division), as recorded in
-    ../shared/data/SOURCED_DATA.md: F_Tmax = F_TV + F_U <= F_Tadm; linear drives F_TV >= F_U
-    [Elatech p. 55].
 [BRECO] BRECO/BRECOFLEX timing-belt design pages (belt-pilot.com, id=1702): tooth capacity
     F_t = F_tspec(n) * b[cm] * z_e, teeth in mesh z_e capped at z_e max.
 [Tsubaki belts] Tsubakimoto Chain, technical data, synchronous belts: correction factors
     Ko, Ki, Ks, Ka [Tsubaki belts table 1-4] and meshing factor (full capacity with 6 or more
     teeth in mesh) [Tsubaki belts table 6].
-[Shigley] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed.,
-    McGraw-Hill (2011): T1 - T2 = F_U, T1 + T2 = 2 F_i for a belt with equal spans; the
-    resultant of two strand forces [Shigley sec. 17-1].
 [W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
     Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
     Model", Energies 14 (2021) 317: the paper's tension [W21 eq. 10-12]; the peak motor
     torque of a duty cycle [W21 eq. 26-28] as ``beltcalc motor-size`` computes it
-    (:mod:`beltcalc.sizing`).
-[C04] R. Crowder, Electric Drives and Electromechanical Systems, Newnes (2006): through a
-    gearbox of ratio i the pulley shaft gets i T_M [C04 eq. 3.9-3.10] (lossless).
+    (:mod:`beltcalc.design.sizing`).
 """
 
 from __future__ import annotations
@@ -28,65 +21,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-from beltcalc import belt as bm
-from beltcalc import geometry as geo
-from beltcalc.catalogs import BeltProfile, ServiceFactors
-from beltcalc.checks import RULES, Check, failures, percent
+from beltcalc.formulas import belt as bm
+from beltcalc.formulas import geometry as geo
+from beltcalc.data.catalogs import BeltProfile, ServiceFactors
+from beltcalc.design.checks import RULES, Check, failures, percent
 from beltcalc.errors import InputError, require_positive, require_range
+from beltcalc.formulas.belt_capacity import (LAYOUTS, installation_tension_rule, peripheral_force, shaft_load,
+                                              specific_tooth_load, tooth_shear_capacity)
+from beltcalc.design.motor_peak import MotorPeak
 
-LAYOUTS = ("linear", "endless")
 # Fewer than 3 teeth make no pitch polygon: bad input, not a design to check (the makers'
 # z_min, 10 and more where the catalogs give one, is the check: ``pulley_teeth``).
 MIN_PULLEY_TEETH = 3
-
-
-def peripheral_force(torque: float, pitch_diameter: float) -> float:
-    r"""Peripheral (effective) force of a pulley [N].
-
-    .. math:: F_U = 2 T / d_0
-
-    T torque on the pulley [N m], d_0 its pitch diameter [m]. [Tsubaki belts formula sheet]
-    ("Fa = 2T/Dp") and [BRECO formula sheet] (F_U = 2 10^3 M / d_0 in N, N m, mm).
-
-    >>> round(peripheral_force(31.83, 0.12732), 6)
-    500.0
-    """
-    require_positive("torque", torque, "N*m")
-    require_positive("pulley_diameter", pitch_diameter, "m")
-    return 2.0 * torque / pitch_diameter
-
-
-def specific_tooth_load(table: tuple[tuple[float, float], ...], speed: float) -> float:
-    r"""The catalog's specific tooth load F_tspec at pulley speed ``speed`` [N/m].
-
-    Linear interpolation in the table of (speed [rad/s], F_tspec [N/m]) pairs [BRECO]; a
-    speed beyond the last row is refused (the table is not extrapolated).
-
-    Notes
-    -----
-    The catalogs hold every row the maker prints (40 to 48 rows, 20 to 500 rpm apart), so
-    the result equals the printed value at a printed speed and lies between the two
-    neighbouring printed values elsewhere. The printed curves fall and are convex, so a
-    chord lies above the curve between rows: by at most 1.4 % on the built-in tables
-    (BRECO T20, 100-200 rpm), bounded from the neighbouring rows' slopes; the bound and
-    its derivation are in docs/catalogs.md. With only a few rows of a table the chords
-    overshot by up to 19 % (issue 28).
-
-    >>> rpm = math.pi / 30
-    >>> round(specific_tooth_load(((0.0, 3640.0), (1000 * rpm, 2649.0)), 500 * rpm), 6)
-    3144.5
-    """
-    if not table:
-        raise InputError("the belt has no F_tspec(n) table", param="belt")
-    require_range("speed", speed, "rad/s", 0.0)
-    speeds = [s for s, _ in table]
-    if speed > speeds[-1] * (1 + 1e-12):
-        raise InputError(f"{speed * 30 / math.pi:.6g} rpm is beyond the catalog's F_tspec table "
-                         f"(up to {speeds[-1] * 30 / math.pi:.6g} rpm); it is not extrapolated", param="speed")
-    for (s0, f0), (s1, f1) in zip(table, table[1:]):
-        if s0 <= speed <= s1:
-            return f0 + (f1 - f0) * (speed - s0) / (s1 - s0)
-    return table[-1][1]
 
 
 def minimum_pulley_teeth_source(belt: BeltProfile) -> str:
@@ -101,63 +47,6 @@ def minimum_pulley_teeth_source(belt: BeltProfile) -> str:
     bent = (f"; with a contraflexure idler the maker asks z_min = {belt.z_min_contraflexure}, not modelled"
             if belt.z_min_contraflexure else "; a contraflexure idler is not modelled")
     return f"z_min = {belt.z_min} without contraflexure, {belt.source.document}{bent}"
-
-
-def tooth_shear_capacity(specific_load: float, width: float, teeth_meshing: float) -> float:
-    r"""Peripheral force the teeth in mesh can carry [N].
-
-    .. math:: F_{U,adm} = F_{tspec}(n) \, b \, z_e
-
-    F_tspec [N/m] per tooth and unit width (the catalogs print N/cm with b in cm), b belt
-    width [m], z_e teeth in mesh. [BRECO]; [W21 sec. 3.2].
-
-    >>> round(tooth_shear_capacity(3640.0, 0.025, 12), 6)
-    1092.0
-    """
-    require_positive("width", width, "m")
-    require_positive("teeth_meshing", teeth_meshing, "")
-    return specific_load * width * teeth_meshing
-
-
-def shaft_load(tight: float, slack: float, wrap: float) -> float:
-    r"""Resultant of the two strand forces on a pulley (its shaft/bearing load) [N].
-
-    .. math:: F_W = \sqrt{T_1^2 + T_2^2 - 2 T_1 T_2 \cos\alpha}
-
-    T_1, T_2 strand forces [N], alpha the wrap angle [rad]: the strands pull along their
-    tangents, which enclose pi - alpha. Vector sum ([Shigley Fig. 17-1] geometry).
-    alpha = pi gives T_1 + T_2.
-
-    >>> shaft_load(1000.0, 500.0, math.pi)
-    1500.0
-    >>> round(shaft_load(600.0, 400.0, math.pi / 2), 3)
-    721.11
-    """
-    for name, v in (("tight", tight), ("slack", slack)):
-        if not (math.isfinite(v) and v >= 0):
-            raise InputError(f"strand force {v:g} N must be >= 0 N", param="pretension")
-    return math.sqrt(max(tight * tight + slack * slack - 2.0 * tight * slack * math.cos(wrap), 0.0))
-
-
-def installation_tension_rule(force: float, layout: str, service: float = 1.0) -> float:
-    r"""The minimum installation tension (pretension) [N].
-
-    .. math:: F_v \ge F_U \ \text{(linear)}, \qquad F_v \ge c_2 F_U / 2 \ \text{(endless)}
-
-    Linear drives: [Elatech p. 55] (the idle side must not go slack whatever
-    the carriage position). Endless two-pulley drives with equal spans: T_1 - T_2 = F,
-    T_1 + T_2 = 2 F_v [Shigley sec. 17-1] give the slack side T_2 = F_v - F / 2; at the design
-    load F = c_2 F_U (the peak the tooth-shear check is made for, service factor c_2 of
-    [Tsubaki belts table 1-4]) it stays >= 0 when F_v >= c_2 F_U / 2. At the nominal F_U it is then
-    (c_2 - 1) F_U / 2 > 0. (F_v = F_U / 2 would leave it at 0 N under the nominal load and
-    negative, i.e. slack and jumping teeth, under c_2 F_U: issue 28.)
-
-    >>> installation_tension_rule(500.0, "linear"), installation_tension_rule(500.0, "endless", 1.4)
-    (500.0, 350.0)
-    """
-    if layout not in LAYOUTS:
-        raise InputError(f"{layout!r} is not a layout; use one of {', '.join(LAYOUTS)}", param="layout")
-    return force if layout == "linear" else service * force / 2.0
 
 
 def _class(value: float, bounds: tuple[float, ...], closed_low: bool) -> int:
@@ -195,7 +84,7 @@ def service_factor(table: ServiceFactors, load: str, hours: float, peak_ratio: f
     larger of K_o and K_a and adding K_i, K_s is our reading of how the tables combine
     (docs/design_checks.md).
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> t = load_catalog().service_factor_table("synchronous_belt")
     >>> service_factor(t, "moderate", 8, 2.0, 10).value
     1.4
@@ -227,103 +116,6 @@ def service_factor(table: ServiceFactors, load: str, hours: float, peak_ratio: f
             f"{starts_per_day:g} starts/day) + Ki {k_i:g} ({idler}) + Ks {k_s:g} (speed-up {speed_up_ratio:g}); "
             f"{table.source.document}")
     return ServiceFactor(value, base, base_from, k_i, k_s, text)
-
-
-@dataclass(frozen=True)
-class MotorPeak:
-    """The peak torque of a ``motor-size`` run and what refers it to its driving pulley (SI).
-
-    ``torque`` T_M [N m] at the motor shaft (the reported motor's), ``gear_ratio`` i (motor
-    speed / pulley speed), ``pulley_diameter`` [m] of that run's driving pulley, ``source``
-    what was run (the scene or file, the motor)."""
-
-    torque: float
-    gear_ratio: float
-    pulley_diameter: float
-    source: str
-
-    @property
-    def pulley_torque(self) -> float:
-        """Torque on the driving pulley [N m]: :math:`T_P = i T_M` [C04 eq. 3.9-3.10], lossless."""
-        return self.gear_ratio * self.torque
-
-
-def motor_peak_from_sizing(sizing, source: str) -> MotorPeak:
-    """The :class:`MotorPeak` of a :class:`beltcalc.sizing.CycleSizing`: the reported
-    motor's peak torque, the gearbox ratio and the pulley diameter it was sized with."""
-    if sizing.shown is None:
-        raise InputError(f"{source}: no motor fits ({sizing.choice.reason}), so there is no peak torque; "
-                         "give the torque (`torque`) instead", param="motor_size")
-    return MotorPeak(sizing.shown.duty.peak_torque, sizing.drive.gearbox.ratio, sizing.axis.pulley_diameter,
-                     f"{source}, motor {sizing.shown.motor.name}")
-
-
-def motor_peak_from_json(obj, source: str) -> MotorPeak:
-    """The :class:`MotorPeak` of what ``beltcalc motor-size --json`` printed (``obj``, the
-    parsed JSON): its ``peak_torque``, ``gear_ratio`` and ``pulley_diameter`` as
-    ``{"value", "unit"}`` in N*m, 1 and m.
-
-    >>> q = lambda v, u: {"value": v, "unit": u}
-    >>> p = motor_peak_from_json({"peak_torque": q(2.0, "N*m"), "gear_ratio": q(20.0, "1"),
-    ...                           "pulley_diameter": q(0.125, "m"), "reported_motor": "M1"}, "run.json")
-    >>> p.pulley_torque, p.source
-    (40.0, 'run.json, motor M1')
-    """
-    values = []
-    for key, unit in (("peak_torque", "N*m"), ("gear_ratio", "1"), ("pulley_diameter", "m")):
-        q = obj.get(key) if isinstance(obj, dict) else None
-        v = q.get("value") if isinstance(q, dict) and q.get("unit") == unit else None
-        if isinstance(v, int) and not isinstance(v, bool):
-            v = float(v) if abs(v) < 2 ** 1023 else math.inf          # a JSON integer beyond a float
-        if not isinstance(v, float) or not math.isfinite(v) or v <= 0:
-            raise InputError(f"{source}: no finite {key} > 0 in {unit}; give the JSON output of a motor-size run in which "
-                             "a motor fits", param="motor_size")
-        values.append(float(v))
-    motor = obj.get("reported_motor") or obj.get("selected_motor")
-    return MotorPeak(*values, f"{source}, motor {motor}" if isinstance(motor, str) else source)
-
-
-def motor_size_peak(ref: str, catalog) -> MotorPeak:
-    """The peak torque of a ``motor-size`` run, from ``ref``: a ``.json`` file that
-    ``beltcalc motor-size ... --json`` wrote (any of its options, duty-cycle files and
-    gearboxes), or a motor-size scene (built-in name such as ``wdu``, or a scene ``.toml``)
-    sized here as ``beltcalc motor-size --scene REF`` sizes it with no other option, over
-    ``catalog``'s belts and motors.
-
-    >>> from beltcalc.catalogs import load_catalog
-    >>> p = motor_size_peak("wdu", load_catalog())
-    >>> round(p.torque, 4), p.gear_ratio, round(p.pulley_diameter, 6), p.source
-    (2.1014, 20.0, 0.127324, 'motor-size scene wdu, motor SGM7J-06A')
-    """
-    if str(ref).lower().endswith(".json"):
-        import json
-        from pathlib import Path
-
-        from beltcalc.units import quote
-
-        try:
-            text = Path(ref).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError, ValueError) as exc:     # ValueError: a NUL in the name
-            raise InputError(f"cannot read {quote(ref)} ({type(exc).__name__})", param="motor_size") from None
-        try:
-            obj = json.loads(text)
-        except (ValueError, RecursionError):
-            raise InputError(f"{quote(ref)} is not JSON", param="motor_size") from None
-        return motor_peak_from_json(obj, quote(ref))
-    from beltcalc.scenefile import load_scene
-    from beltcalc.errors import BeltcalcError
-    from beltcalc.params import resolve
-    from beltcalc.sizing import PARAMS, SizingInputs, size_cycle
-
-    try:
-        scene = load_scene(ref, command="motor-size")
-        values = resolve(scene, PARAMS)
-        inp = SizingInputs.from_values({k: v.value for k, v in values.items()})
-        sizing = size_cycle(inp, catalog.belt(values["belt"].value), list(catalog.motors.values()))
-    except BeltcalcError as exc:       # about the scene's run, not this drive's parameters
-        why = exc.message if exc.param == "scene" else str(exc)
-        raise type(exc)(f"motor-size scene {ref}: {why}", param="motor_size") from None
-    return motor_peak_from_sizing(sizing, f"motor-size scene {ref}")
 
 
 @dataclass(frozen=True)
@@ -456,7 +248,7 @@ def _paper_tension(inp: BeltDriveInputs, belt: BeltProfile, d1: float) -> float 
     """F_t,peak of [W21 eq. 10-12] for a linear axis with a mass; None otherwise."""
     if inp.layout != "linear" or inp.mass is None or inp.accel is None:
         return None
-    from beltcalc.tension import TensionInputs, belt_damping
+    from beltcalc.design.tension import TensionInputs, belt_damping
 
     row = belt.width_row(inp.width)
     if row.w_spec is None:
@@ -473,7 +265,7 @@ def _paper_tension(inp: BeltDriveInputs, belt: BeltProfile, d1: float) -> float 
 def check_belt_drive(inp: BeltDriveInputs, belt: BeltProfile, factors: ServiceFactors) -> BeltDriveReport:
     """Geometry and capacity checks of one belt width (see the module references).
 
-    >>> from beltcalc.catalogs import load_catalog
+    >>> from beltcalc.data.catalogs import load_catalog
     >>> cat = load_catalog()
     >>> inp = BeltDriveInputs(layout="linear", teeth=40, center_distance=1.245, width=0.025,
     ...                       mass=50.0, accel=10.0)

@@ -33,14 +33,13 @@ import math
 import numpy as np
 
 from beltcalc.numerics.expm import expm
-from beltcalc.sim.watch.polish import (COARSE, GRID, PendingSteps, cell_rises, horner_rows, polish_polynomials,
-                                       trim_terms, zoom_max)
+from beltcalc.sim.watch.polish import (COARSE, CURVE_SAFETY, GRID, PendingSteps, cell_rises, horner_rows,
+                                       polish_polynomials, seen_rise, trim_terms, zoom_max)
 from beltcalc.sim.propagate import orbit
 
 MAX_CANDIDATES = 16    # candidate steps polished per signal, side and window ...
 CANDIDATE_BYTES = 64e6  # ... as far as their step points fit this much
 KEPT_MODES = 8         # modes whose signal rows (half step, second derivative) are kept
-CURVE_SAFETY = 2.0     # the largest |s''| seen on a step and its neighbours, times this, bounds it there
 FLAT = 1e-14          # ... and polished only where they may rise by more than this, relative
 SETTLE_FLOATS = 4e6    # polynomial coefficients a sparse mode's candidate steps form at once
 LADDER_POINTS = 4096   # a stiff mode's extreme: its bottom-step points walked where at most this many ...
@@ -259,7 +258,7 @@ class Watch:
             c2[:, 1:] = np.maximum(c2[:, 1:], c2[:, :-1].copy())
             c2[:, :-1] = np.maximum(c2[:, :-1], c2[:, 1:].copy())
             d = 0.5 * (times[1:] - times[:-1])
-            rise = monotone = CURVE_SAFETY * c2 * (d * d / 8)[None, :]
+            rise = monotone = seen_rise(c2, d[None, :])
             if mode.sparse:
                 # a step on which the signal is monotone has its extremes at its ends, both seen:
                 # no candidate. With |s''| <= CURVE_SAFETY c2 (the bound of the rise), s' keeps its

@@ -6,9 +6,10 @@ generators: ``z' = F z``, ``z = [x, g]``. A signal is a row over z that may chan
 to piece (a prescribed node's drive torque: :func:`drive_torque_row`), so it may jump at a
 break: each piece is read from its right limit at the start to its left limit at the end, and
 an extreme says on which side it lies. The grid of each piece is walked with
-:func:`beltcalc.sim.propagate.orbit`; the candidates are polished with
-:func:`beltcalc.sim.watch.polish.zoom_max` on the exact solution, as the switching core's
-:class:`beltcalc.sim.watch.blocks.Watch` polishes a stiff mode's ladder.
+:func:`beltcalc.sim.propagate.orbit`; its candidate cells are chosen by the rule the switching
+core's :class:`beltcalc.sim.watch.blocks.Watch` uses (:func:`beltcalc.sim.watch.polish.seen_rise`)
+and polished with :func:`beltcalc.sim.watch.polish.zoom_max` on the exact solution, as that
+watch polishes a stiff mode's ladder.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from beltcalc.errors import InputError
 from beltcalc.sim.elements import Prescribed, SpeedLoop, piece
 from beltcalc.numerics.expm import expm
 from beltcalc.sim.propagate import augment, orbit
-from beltcalc.sim.watch.polish import zoom_max
+from beltcalc.sim.watch.polish import seen_rise, zoom_max
 
 if TYPE_CHECKING:
     from beltcalc.sim.network import Network
@@ -35,7 +36,6 @@ CHUNK = 4096               # grid states held at a time
 GAUSS_NODES = 8            # Gauss-Legendre nodes per grid interval (exact for degree 15)
 ZOOM_POINTS = 65           # exact values per grid of a candidate's polish ...
 ZOOM_LEVELS = 5            # ... and its grids, each 32 times finer
-NEAR = 0.01                # grid maxima polished: within this much of the signal's range of the best
 
 
 @dataclass(frozen=True)
@@ -153,10 +153,12 @@ def exact_signals(net: Network, rows: dict, t_end: float, cuts=(), rms_end: floa
               \quad s(\tau) = r \, z(a + \tau)
 
     read on a grid of at least 16 points per period of the fastest oscillating mode of A
-    (and 32 per piece; the orbit of ``expm(F h)``, :func:`beltcalc.sim.propagate.orbit`);
-    every grid maximum whose parabola through three grid points comes within 1 % of the
-    signal's range of the largest is polished on the exact solution (:func:`zoom_max`: 65
-    exact values around it, five times, each 32 times finer). The piece's ends are its right
+    (and 32 per piece; the orbit of ``expm(F h)``, :func:`beltcalc.sim.propagate.orbit`),
+    with its second derivative ``r F^2 z`` there; every grid cell whose larger value plus the
+    most the signal can rise between them (:func:`seen_rise`: the largest |s''| seen at the
+    cell's points and its neighbours', twice, times h^2 / 8) reaches the best value seen is
+    polished on the exact solution (:func:`zoom_max`: 65 exact values on the cell, five times,
+    each 32 times finer), the highest bound first, until the rest fall below the best. The piece's ends are its right
     limit at a and its left limit at b, so a jump of a right-continuous input (the prescribed
     acceleration) is seen from both sides. The integral of :math:`s^2` is Gauss-Legendre
     with 8 nodes per grid interval (exact for polynomials of degree 15; the signal is
@@ -177,67 +179,63 @@ def exact_signals(net: Network, rows: dict, t_end: float, cuts=(), rms_end: floa
     best = {name: {1: (-math.inf, 0.0, ""), -1: (-math.inf, 0.0, "")} for name in names}
     square = {name: 0.0 for name in names}
     xg, wg = np.polynomial.legendre.leggauss(GAUSS_NODES)
-    cands = {name: {1: [], -1: []} for name in names}    # (estimate, piece, start time, z, h)
-    spread = {name: (math.inf, -math.inf) for name in names}
+    cands = {name: {1: [], -1: []} for name in names}    # (bound, piece, start time, z, h) of each cell
     mats = []
     for a, b, t_mid, A, B, count in _pieces(net, t_end, cuts, rms_end):
         h = (b - a) / count
         F = augment(net, A, B)
         steps = [expm(F * h)]              # the orbit's doublings, kept across the chunks
         R = np.array([rows[name](t_mid) for name in names])
+        R2 = R @ F @ F                     # the signals' second derivatives
         mats.append((F, R))
         rms_piece = rms_end is not None and b <= rms_end * (1 + 1e-12)
         nodes = [R @ expm(F * (h * (1 + x) / 2)) for x in xg] if rms_piece else []
         # the grid 0..count in chunks (memory: CHUNK states at a time); each chunk carries the two
-        # states before it, so every interior grid point is tested once with both neighbours
-        carry_z, carry_v, start = np.empty((0, F.shape[0])), np.empty((0, len(names))), 0
+        # points before it, so every cell is tested once with the curvature of both neighbours
+        carry_z, carry_v, carry_c, start = (np.empty((0, F.shape[0])), np.empty((0, len(names))),
+                                            np.empty((0, len(names))), 0)
         while start <= count:
             stop = min(start + CHUNK, count + 1)
             Z = orbit(steps, z if start == 0 else steps[0] @ carry_z[-1], stop - start)
-            V = Z @ R.T
+            V, C2 = Z @ R.T, np.abs(Z @ R2.T)
             if rms_piece:
                 last = min(stop, count) - start        # intervals j -> j + 1 for j < count
                 for x, w, node in zip(xg, wg, nodes):
                     vals = Z[:last] @ node.T
                     for k, name in enumerate(names):
                         square[name] += 0.5 * h * w * float(vals[:, k] @ vals[:, k])
-            ZZ, VV = np.vstack([carry_z, Z]), np.vstack([carry_v, V])
+            ZZ, VV, CC = np.vstack([carry_z, Z]), np.vstack([carry_v, V]), np.vstack([carry_c, C2])
             first = start - len(carry_z)               # grid index of ZZ[0]
+            own = len(carry_z) - 1 if len(carry_z) else 0    # ZZ's first cell not tested before
+            # per cell (ZZ[j], ZZ[j + 1]): the largest |s''| at its points and its neighbours'
+            c = np.maximum(CC[:-1], CC[1:])
+            c[1:] = np.maximum(c[1:], c[:-1].copy())
+            c[:-1] = np.maximum(c[:-1], c[1:].copy())
+            rise = seen_rise(c, h)
             for k, name in enumerate(names):
-                v = VV[:, k]
-                spread[name] = (min(spread[name][0], float(V[:, k].min())), max(spread[name][1], float(V[:, k].max())))
                 for side in (1, -1):
-                    u = side * v
-                    for j in (0, count):                                # the piece's two limits
-                        if start <= j < stop and u[j - first] > best[name][side][0]:
-                            best[name][side] = (float(u[j - first]), a + j * h, "right" if j == 0 else "left")
-                    mid, lo, hi = u[1:-1], u[:-2], u[2:]
-                    for i in np.nonzero((mid >= lo) & (mid >= hi))[0] + 1:
+                    u = side * VV[:, k]
+                    i = own + int(np.argmax(u[own:]))                   # the grid's best value
+                    if u[i] > best[name][side][0]:
                         j = first + i
-                        if u[i] > best[name][side][0]:
-                            best[name][side] = (float(u[i]), a + j * h, "inside")
-                        curve = 2 * u[i] - u[i - 1] - u[i + 1]        # the parabola through three points
-                        est = u[i] + (u[i + 1] - u[i - 1]) ** 2 / (8 * curve) if curve > 0 else u[i]
-                        cands[name][side].append((float(est), len(mats) - 1, a + (j - 1) * h, ZZ[i - 1].copy(), h))
-            carry_z, carry_v = ZZ[-2:], VV[-2:]
+                        best[name][side] = (float(u[i]), a + j * h, "right" if j == 0 else
+                                            "left" if j == count else "inside")
+                    bound = np.maximum(u[:-1], u[1:]) + rise[:, k]
+                    for j in np.nonzero(bound[own:] >= best[name][side][0])[0] + own:
+                        cands[name][side].append((float(bound[j]), len(mats) - 1, a + (first + j) * h, ZZ[j].copy(), h))
+            carry_z, carry_v, carry_c = ZZ[-2:], VV[-2:], CC[-2:]
             start = stop
         z = carry_z[-1]
-    # polish the grid maxima that may be the largest: within NEAR of the signal's range of the
-    # best parabola through three grid points (16 points per period: the parabola is within
-    # 0.1 % of a sine's top)
+    # polish the candidate cells, the highest bound first, until the rest cannot reach the best
     for k, name in enumerate(names):
-        width = spread[name][1] - spread[name][0]
         for side in (1, -1):
-            ranked = cands[name][side]
-            if not ranked:
-                continue
-            top = max(max(c[0] for c in ranked), best[name][side][0])
-            for est, ip, t0, z0, h in ranked:
-                if est < top - NEAR * width:
-                    continue
+            for bound, ip, t0, z0, h in sorted(cands[name][side], key=lambda c: -c[0]):
+                if bound < best[name][side][0]:
+                    break
                 F, R = mats[ip]
-                val, tau = zoom_max(_reader(F, side * R[k], z0), 0.0, 2 * h, ZOOM_POINTS, ZOOM_LEVELS)
-                if val > best[name][side][0]:
+                val, tau = zoom_max(_reader(F, side * R[k], z0), 0.0, h, ZOOM_POINTS, ZOOM_LEVELS)
+                # a cell's ends are grid points, already seen with their sides (a piece's limits)
+                if 0.0 < tau < h and val > best[name][side][0]:
                     best[name][side] = (val, t0 + tau, "inside")
     out = {}
     for name in names:

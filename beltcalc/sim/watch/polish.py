@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+CURVE_SAFETY = 2.0   # the largest |s''| seen on a cell and its neighbours, times this, bounds it there
 GRID = 257           # points per refinement interval before the local optimum is polished
 COARSE = 9           # points per step at which a sparse mode's candidate polynomials are read first
 PENDING_FLOATS = 2e6   # a sparse mode's candidate steps held for their polish, per window and side
@@ -148,6 +149,16 @@ def zoom_max(read, a: float, b: float, points: int, levels: int) -> tuple[float,
         lo, hi = max(j - 1, 0), min(j + 1, points - 1)
         t0, width, i = t0 + lo * d, (hi - lo) * d, lo
     return best, where
+
+
+def seen_rise(curvature, spacing):
+    """The candidate rule of both watches (:class:`beltcalc.sim.watch.blocks.Watch`,
+    :func:`beltcalc.sim.watch.pieces.exact_signals`): between two points a spacing d apart, a
+    signal rises above the larger of its two values by at most ``max |s''| d^2 / 8``, with
+    max |s''| taken as CURVE_SAFETY times the largest ``curvature`` (|s''|) seen at the cell's
+    points and its neighbours'. A cell whose larger value plus this reaches the best value seen
+    is a candidate, polished on the exact solution; no other cell can hold the extreme."""
+    return CURVE_SAFETY * curvature * (spacing * spacing / 8)
 
 
 def cell_rises(C: np.ndarray, s_c: np.ndarray) -> np.ndarray:

@@ -73,8 +73,8 @@ def save_figure(fig, path, dpi: int = 110, fmt: str | None = None, write=None) -
     reference). ``write(path, fill)`` puts the file in place, ``fill(tmp)`` writing its bytes
     to ``tmp`` (the command line's one writer, atomic); default: saved to ``path`` itself."""
     plt = _pyplot()
-    fmt = plot_format(path) if fmt is None else fmt
     try:
+        fmt = plot_format(path) if fmt is None else fmt
         if write is None:
             fig.savefig(path, dpi=dpi, format=fmt)
         else:

@@ -34,6 +34,31 @@ def format_number(value: float, digits: int = 4) -> str:
     return f"{value:.{digits}g}"
 
 
+def unit_label(unit: str) -> str:
+    """A unit as a table or axis shows it: ``N m``, ``rad/s``, ``-`` for a plain number.
+
+    >>> unit_label("N*m"), unit_label("rad/s^2"), unit_label("1")
+    ('N m', 'rad/s^2', '-')
+    """
+    unit = "" if unit in ("1", "") else unit.replace("**", "^").replace("*", " ")
+    return unit or "-"
+
+
+def denoise(x: float) -> float:
+    """Rounding noise off a displayed figure (an undamped mode's 1e-17 damping ratio, a node
+    at rest's phase): ``x`` to 9 decimals, never -0.0.
+
+    >>> denoise(1e-17), denoise(-1e-12), denoise(0.0312345678912)
+    (0.0, 0.0, 0.031234568)
+    """
+    return round(x, 9) + 0.0
+
+
+def rpm(speed: float) -> float:
+    """A speed [rad/s] in revolutions per minute."""
+    return speed * 60.0 / (2 * math.pi)
+
+
 def quantity(value, unit: str) -> dict:
     """``{"value", "unit"}`` of a JSON object; a value that is not a finite number is null with
     the reason."""

@@ -343,8 +343,8 @@ def test_zone_panel_draws_the_assumed_zone_and_the_cycle():
 
 
 def test_zone_panel_draws_a_catalog_zone(tmp_path):
-    from beltcalc.cli.motor_size import _plot_profile
     from beltcalc.design.motor_report import zone_plot_data
+    from beltcalc.plots import profile_figure, save_figure
 
     cat = tmp_path / "m.toml"
     cat.write_text('''[source]
@@ -369,7 +369,7 @@ units = { P = "W", T_n = "N*m", T_max = "N*m", J = "kg*cm^2", n_rated = "rpm", n
     assert data["continuous"] == [pytest.approx(p, rel=1e-12) for p in [(0.0, 2.2), (3000.0, 1.91), (6000.0, 0.8)]]
     pytest.importorskip("matplotlib")
     path = tmp_path / "zone.png"
-    _plot_profile(s, path)
+    save_figure(profile_figure(s), path)
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 

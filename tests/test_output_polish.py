@@ -1,7 +1,7 @@
 """What a user sees of a result (issue 30, items 6 and 7), each through the command where the
 user meets it: ``--plot`` writes the format its suffix names (beltcalc/cli/output.py
-``plot_format``, ``save_figure``); a table never cuts a number (``fit_table``); limit lines
-differ by style and carry a label; Campbell labels do not overlap (cli/frequency.py); a study's
+``plot_format``, ``write_figure``); a table never cuts a number (``fit_table``); limit lines
+differ by style and carry a label; Campbell labels do not overlap (beltcalc/plots.py); a study's
 key and its label name the same quantity (sim/scenes/base.py ``column_rows``); ``modes`` names
 every element that holds over 10 % of a mode's strain energy; Dask's own log lines stay off
 stderr, and a script without a main guard runs a study on a local cluster (sim/study/cluster.py)."""

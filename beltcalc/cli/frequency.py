@@ -15,8 +15,10 @@ import click
 
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION
 from beltcalc.cli.options import DriveRef, FrequencyParam, OutputPath, catalog_option, output_options, quantity_option
-from beltcalc.cli.output import (console, dumps, format_number, inputs_json, require_matplotlib, save_figure, table_csv,
-                                 write_atomic, wrote)
+from beltcalc.cli.output import (console, dumps, format_number, inputs_json, require_matplotlib, table_csv, write_atomic,
+                                 write_figure, wrote)
+from beltcalc.plots import campbell_figure, modes_figure, response_figure
+from beltcalc.report import denoise, rpm
 
 
 INPUTS = "beltcalc.inputs"     # ctx.meta key: the drive's inputs with their origin (the JSON's `inputs`)
@@ -82,23 +84,6 @@ def _duration(t: float) -> str:
     return f"{format_number(t / 1e-9, 4)} ns"
 
 
-def _rpm(speed: float) -> float:
-    return speed * 60.0 / (2 * math.pi)
-
-
-def _save(fig, path) -> None:
-    fig.tight_layout()
-    save_figure(fig, path)
-
-
-def _figure(rows: int, cols: int, size: tuple[float, float], **kw):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt.subplots(rows, cols, figsize=size, squeeze=False, **kw)
-
-
 def _emit(csv_path, plot_path, as_json, csv_text, plot, to_dict, show) -> None:
     """Every command's answer: the CSV file, the plot, then the JSON object or the tables (each
     a function of nothing: the library has answered already)."""
@@ -131,7 +116,7 @@ def print_poles(m, title: str) -> None:
     for k, p in enumerate(m.to_list(shapes=False), 1):
         if p["kind"] == "oscillatory":
             t.add_row(str(k), f"mode {p['mode']}", _text(p["frequency"]["value"]),
-                      _text(p["damped_frequency"]["value"]), _text(_clean(p["damping_ratio"]["value"]), 3), "-")
+                      _text(p["damped_frequency"]["value"]), _text(denoise(p["damping_ratio"]["value"]), 3), "-")
         elif p["kind"] == "real":
             t.add_row(str(k), "real", "-", "-", "-", _duration(p["time_constant"]["value"]))
         else:
@@ -139,39 +124,23 @@ def print_poles(m, title: str) -> None:
     console().print(t)
 
 
-def _clean(x: float) -> float:
-    """Rounding noise off a displayed figure (an undamped mode's 1e-17 damping ratio, a node
-    at rest's phase)."""
-    return round(x, 9) + 0.0
-
-
 def _print_shapes(m) -> None:
     from rich.table import Table
 
     out = console()
     for k, (p, s) in enumerate(zip(m.oscillatory(), m.shapes), 1):
-        energy = ("strain energy: " + ", ".join(f"{e} ({format_number(100 * share, 3)} %)" for e, share in _shares(s))
+        energy = ("strain energy: " + ", ".join(f"{e} ({format_number(100 * share, 3)} %)" for e, share in s.shares())
                   if s.dominant else "no spring strained")
-        out.print(f"mode {k}: {_text(p.frequency)} Hz, damping ratio {_text(_clean(p.damping_ratio), 3)}; {energy}",
+        out.print(f"mode {k}: {_text(p.frequency)} Hz, damping ratio {_text(denoise(p.damping_ratio), 3)}; {energy}",
                   markup=False, highlight=False, soft_wrap=True)
         t = Table()
         t.add_column("node")
         t.add_column("amplitude (relative)", justify="right")
         t.add_column("phase deg", justify="right")
         for node, a in s.amplitude.items():
-            still = _clean(a) == 0
-            t.add_row(node, format_number(_clean(a), 4), "-" if still else format_number(_clean(s.phase[node]), 4))
+            still = denoise(a) == 0
+            t.add_row(node, format_number(denoise(a), 4), "-" if still else format_number(denoise(s.phase[node]), 4))
         out.print(t)
-
-
-SHARE_SHOWN = 0.10    # a mode's elements named with their share of its strain energy: those above 10 %
-
-
-def _shares(shape) -> list[tuple[str, float]]:
-    """The elements of a mode ``shape`` that hold over :data:`SHARE_SHOWN` of its strain energy,
-    largest first (the ones to stiffen); where none does, the largest alone."""
-    big = sorted(((e, v) for e, v in shape.energy.items() if v > SHARE_SHOWN), key=lambda ev: -ev[1])
-    return big or [(shape.dominant, shape.energy[shape.dominant])]
 
 
 def _print_modes(d, m) -> None:
@@ -204,33 +173,6 @@ def _modes_csv(m, nodes: list[str]) -> str:
     return table_csv(header, rows)
 
 
-def _plot_modes(m, nodes: list[str], title: str, path) -> None:
-    shapes = list(zip(m.oscillatory(), m.shapes))
-    if not shapes:
-        fig, axes = _figure(1, 1, (6, 2))
-        axes[0, 0].text(0.5, 0.5, "no oscillatory mode", ha="center", va="center")
-        axes[0, 0].set_axis_off()
-        _save(fig, path)
-        return
-    cols = 1 if len(shapes) <= 4 else 2
-    rows = math.ceil(len(shapes) / cols)
-    fig, axes = _figure(rows, cols, (max(6.0, 0.5 * len(nodes)) * cols, 2.2 * rows))
-    x = range(len(nodes))
-    for k, ((p, s), ax) in enumerate(zip(shapes, axes.flat), 1):
-        amp = [s.amplitude[n] for n in nodes]
-        against = [abs(s.phase[n]) > 90 for n in nodes]
-        ax.bar(x, amp, color=["tab:orange" if a else "tab:blue" for a in against])
-        ax.set_xticks(list(x), nodes, fontsize=7, rotation=45 if len(nodes) > 8 else 0)
-        ax.set_ylim(0, 1.05)
-        ax.set_ylabel("amplitude", fontsize=8)
-        where = "; " + ", ".join(f"{e} {100 * v:.0f} %" for e, v in _shares(s)) if s.dominant else ""
-        ax.set_title(f"mode {k}: {p.frequency:.4g} Hz, zeta {_clean(p.damping_ratio):.3g}{where}", fontsize=8)
-    for ax in list(axes.flat)[len(shapes):]:
-        ax.set_axis_off()
-    fig.suptitle(f"{title}: mode shapes (orange: against the largest)", fontsize=9)
-    _save(fig, path)
-
-
 @click.command("modes")
 @drive_options
 def modes(drive, assignments, catalog_paths, plot_path, as_json, csv_path):
@@ -245,21 +187,14 @@ def modes(drive, assignments, catalog_paths, plot_path, as_json, csv_path):
     d = _drive(drive, assignments, catalog_paths, plot_path)
     m = fq.modes(d.network)
     nodes = [nd.name for nd in d.network.nodes]
-    _emit(csv_path, plot_path, as_json, lambda: _modes_csv(m, nodes), lambda path: _plot_modes(m, nodes, d.title, path),
+    _emit(csv_path, plot_path, as_json, lambda: _modes_csv(m, nodes),
+          lambda path: write_figure(modes_figure(m, nodes, d.title), path),
           lambda: {"drive": d.title, "file": d.path, "modes": m.to_list(),
                    "undamped_frequencies": {"value": _floats(m.undamped), "unit": "Hz"}},
           lambda: _print_modes(d, m))
 
 
 # --- frequency response ---------------------------------------------------------------------------------
-def _pairs(r):
-    from beltcalc.sim.frequency_report import ratio_unit
-
-    for i, y in enumerate(r.outputs):
-        for j, u in enumerate(r.inputs):
-            yield y, u, ratio_unit(r.units[i], r.input_units[j])
-
-
 def _tag(unit: str) -> str:
     return unit.replace("(", "").replace(")", "").replace("/", "_per_").replace(" ", "_").replace("^", "")
 
@@ -269,7 +204,7 @@ def _response_json(d, r) -> dict:
 
     out = {"drive": d.title, "file": d.path, "excitations": r.inputs, "outputs": r.outputs,
            "frequency": {"value": _floats(r.omega / (2 * math.pi)), "unit": "Hz"}, "responses": []}
-    for y, u, unit in _pairs(r):
+    for y, u, unit in r.pairs():
         out["responses"].append({
             "output": y, "input": u,
             "magnitude": {"value": _floats(r.magnitude(y, u)), "unit": unit},
@@ -283,7 +218,7 @@ def _response_json(d, r) -> dict:
 def _response_csv(r) -> str:
     f = r.omega / (2 * math.pi)
     header, cols = ["f_Hz", "omega_rad_per_s"], [f, r.omega]
-    for y, u, unit in _pairs(r):
+    for y, u, unit in r.pairs():
         pair = f"{y}_from_{u.replace(':', '_')}"
         header += [f"mag_{pair}_{_tag(unit)}", f"phase_{pair}_deg"]
         cols += [r.magnitude(y, u), r.phase(y, u)]
@@ -303,7 +238,7 @@ def _print_response(d, r, spacing: str) -> None:
     t = Table(title="resonance peaks of |H|", title_justify="left")
     for col in ("output", "input", "frequency Hz", "|H|", "unit", "Q"):
         t.add_column(col, justify="left" if col in ("output", "input", "unit") else "right")
-    for y, u, unit in _pairs(r):
+    for y, u, unit in r.pairs():
         peaks = r.peaks[(y, u)]
         if not peaks:
             t.add_row(y, u, "-", "-", unit, "no peak inside the range")
@@ -316,33 +251,13 @@ def _print_response(d, r, spacing: str) -> None:
         t.add_column(col, no_wrap=True)
     for k in picks:
         t.add_column(_text(f[k]), justify="right")
-    for y, u, unit in _pairs(r):
+    for y, u, unit in r.pairs():
         mag, ph = r.magnitude(y, u), r.phase(y, u)
         t.add_row(y, u, escape(f"|H| [{unit}]"), *(_text(mag[k]) for k in picks))
         t.add_row("", "", escape("phase [deg]"), *(_text(ph[k]) for k in picks))
     out.print(t)
     out.print("every frequency: --csv, --json or --plot (a Bode plot)", markup=False, highlight=False,
               soft_wrap=True)
-
-
-def _plot_response(d, r, path) -> None:
-    f = r.omega / (2 * math.pi)
-    fig, axes = _figure(2, 1, (8, 6), sharex=True)
-    mag_ax, ph_ax = axes[:, 0]
-    for y, u, unit in _pairs(r):
-        line, = mag_ax.loglog(f, r.magnitude(y, u), "-" if f.size > 1 else "o", label=f"{y} / {u} [{unit}]")
-        peaks = r.peaks[(y, u)]
-        if peaks:
-            mag_ax.plot([p[0] for p in peaks], [p[1] for p in peaks], "o", color=line.get_color(), fillstyle="none")
-        ph_ax.semilogx(f, r.phase(y, u), "-" if f.size > 1 else "o", color=line.get_color())
-    mag_ax.set_ylabel("|H|")
-    mag_ax.legend(fontsize=7)
-    mag_ax.set_title(f"{d.title}: frequency response (circles: resonance peaks)", fontsize=9)
-    ph_ax.set_ylabel("phase [deg]")
-    ph_ax.set_xlabel("frequency [Hz]")
-    for ax in (mag_ax, ph_ax):
-        ax.grid(True, which="both", alpha=0.3)
-    _save(fig, path)
 
 
 @click.command("response")
@@ -371,7 +286,8 @@ def response(drive, assignments, catalog_paths, plot_path, as_json, csv_path, in
 
     d = _drive(drive, assignments, catalog_paths, plot_path, {"f_min": "--from", "f_max": "--to"})
     r = fq.response(d.network, list(inputs), list(outputs), f_from, f_to, points, spacing)
-    _emit(csv_path, plot_path, as_json, lambda: _response_csv(r), lambda path: _plot_response(d, r, path),
+    _emit(csv_path, plot_path, as_json, lambda: _response_csv(r),
+          lambda path: write_figure(response_figure(r, d.title), path),
           lambda: _response_json(d, r), lambda: _print_response(d, r, spacing))
 
 
@@ -407,7 +323,7 @@ def _campbell_csv(c) -> str:
     op = c.operating_speed
     header = ["speed_rad_per_s", "speed_rpm", "order", "mode", "frequency_Hz", "damping_ratio",
               "speed_per_operating_speed"]
-    return table_csv(header, ([repr(x.speed), repr(_rpm(x.speed)), repr(x.order), x.mode, repr(x.frequency),
+    return table_csv(header, ([repr(x.speed), repr(rpm(x.speed)), repr(x.order), x.mode, repr(x.frequency),
                                repr(x.damping_ratio + 0.0), repr(x.speed / op) if op else ""] for x in c.crossings))
 
 
@@ -418,7 +334,7 @@ def _print_campbell(d, c) -> None:
     op = c.operating_speed
     orders = ", ".join(format_number(k, 4) for k in c.orders)
     out.print(f"{d.title}: Campbell diagram, speed of node {c.reference} from {_text(c.speed_min)} to "
-              f"{_text(c.speed_max)} rad/s ({_text(_rpm(c.speed_max))} rpm), orders {orders}",
+              f"{_text(c.speed_max)} rad/s ({_text(rpm(c.speed_max))} rpm), orders {orders}",
               markup=False, highlight=False, soft_wrap=True)
     t = Table(title="crossings of order lines and modes", title_justify="left")
     cols = ["speed rad/s", "speed rpm"] + (["x operating speed"] if op else []) + \
@@ -426,101 +342,19 @@ def _print_campbell(d, c) -> None:
     for col in cols:
         t.add_column(col, justify="right")
     for x in c.crossings:
-        t.add_row(_text(x.speed), _text(_rpm(x.speed)), *([_text(x.speed / op, 3)] if op else []),
-                  format_number(x.order, 4), str(x.mode), _text(x.frequency), _text(_clean(x.damping_ratio), 3))
+        t.add_row(_text(x.speed), _text(rpm(x.speed)), *([_text(x.speed / op, 3)] if op else []),
+                  format_number(x.order, 4), str(x.mode), _text(x.frequency), _text(denoise(x.damping_ratio), 3))
     out.print(t)
-    modes = ", ".join(f"{k}: {_text(p.frequency)} Hz (damping ratio {_text(_clean(p.damping_ratio), 3)})"
+    modes = ", ".join(f"{k}: {_text(p.frequency)} Hz (damping ratio {_text(denoise(p.damping_ratio), 3)})"
                       for k, p in enumerate(c.modes, 1)) or "none"
     notes = [f"modes: {modes}"]
     if not c.crossings:
         notes.append("no order line crosses a mode inside the speed range")
     if op:
         notes.append(f"operating speed: at the synchronous speed of motor {c.motor!r}, node {c.reference} turns at "
-                     f"{_text(op)} rad/s ({_text(_rpm(op))} rpm)")
+                     f"{_text(op)} rad/s ({_text(rpm(op))} rpm)")
     for note in notes:
         out.print(note, markup=False, highlight=False, soft_wrap=True)
-
-
-def _plot_campbell(d, c, path) -> None:
-    save_figure(campbell_figure(d, c), path)
-
-
-def campbell_figure(d, c):
-    """The Campbell diagram as a matplotlib figure: modes as horizontal lines, orders as rays
-    from the origin, the crossings marked; each line labelled at the right edge (orders to 4
-    significant digits), the labels of each edge moved apart where they would overlap
-    (:func:`spread`) and left out where the height holds no more."""
-    fig, axes = _figure(1, 1, (8, 5))
-    ax = axes[0, 0]
-    top_speed = _rpm(c.speed_max)
-    lines = [k * c.speed_max / (2 * math.pi) for k in c.orders]
-    crossed = [x.frequency for x in c.crossings]
-    f_top = 1.25 * max(lines + crossed + ([c.modes[0].frequency] if c.modes else []))
-    mode_labels, order_labels = [], []
-    for k, p in enumerate(c.modes, 1):
-        if p.frequency <= f_top:
-            ax.axhline(p.frequency, color="tab:blue", lw=1)
-            mode_labels.append(ax.text(top_speed, p.frequency, f" mode {k}: {p.frequency:.4g} Hz", va="bottom",
-                                       ha="right", fontsize=7))
-    for k, f_end in zip(c.orders, lines):
-        ax.plot([0, top_speed], [0, f_end], "--", color="gray", lw=1)
-        order_labels.append(ax.text(top_speed, min(f_end, f_top), f" order {k:.4g}", va="bottom", ha="left",
-                                    fontsize=7))
-    ax.plot([_rpm(x.speed) for x in c.crossings], crossed, "o", color="tab:red", label="crossings")
-    if c.operating_speed:
-        ax.axvline(_rpm(c.operating_speed), color="black", ls=":", lw=1, label="operating (synchronous) speed")
-    ax.set_xlim(_rpm(c.speed_min), top_speed * 1.08)
-    ax.set_ylim(0, f_top)
-    ax.set_xlabel(f"speed of node {c.reference} [rpm]")
-    ax.set_ylabel("frequency [Hz]")
-    ax.set_title(f"{d.title}: Campbell diagram", fontsize=9)
-    ax.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()       # the axes' final size: the labels are moved apart in its pixels
-    for texts in (mode_labels, order_labels):     # each edge's labels: modes left of it, orders right
-        _unstack(fig, ax, texts)
-    return fig
-
-
-def _unstack(fig, ax, texts) -> None:
-    """Move the labels ``texts`` (one edge's, bottom-aligned) apart to at least one text height
-    (in the figure's pixels) inside the axes' height; hide those that do not fit."""
-    if not texts:
-        return
-    renderer = fig.canvas.get_renderer()
-    gap = 1.15 * max(t.get_window_extent(renderer).height for t in texts)
-    to_px, to_data = ax.transData, ax.transData.inverted()
-    (_, low), (_, high) = ax.transAxes.transform((0, 0)), ax.transAxes.transform((0, 1))
-    ys = [to_px.transform(t.get_position())[1] for t in texts]
-    for t, y in zip(texts, spread(ys, gap, low, high - gap)):
-        if y is None:
-            t.set_visible(False)
-        else:
-            t.set_y(to_data.transform((0, y))[1])
-
-
-def spread(ys: list[float], gap: float, low: float, high: float) -> list[float | None]:
-    """Positions as near ``ys`` as keep each at least ``gap`` from its neighbours, inside
-    ``[low, high]``, in the order of ``ys``; None for those there is no room for (the lowest:
-    the room holds ``(high - low) / gap + 1`` of them).
-
-    >>> spread([5.0, 5.5, 20.0, 6.0], 2.0, 0.0, 100.0)
-    [5.0, 7.0, 20.0, 9.0]
-    >>> spread([99.0, 99.5], 2.0, 0.0, 100.0)
-    [98.0, 100.0]
-    >>> spread([1.0, 1.1, 1.2], 2.0, 0.0, 2.0)
-    [None, 0.0, 2.0]
-    """
-    order = sorted(range(len(ys)), key=ys.__getitem__)
-    room = int((high - low) // gap) + 1 if high >= low else 0
-    order = order[max(len(order) - room, 0):]          # the lowest labels go first
-    out: list[float | None] = [None] * len(ys)
-    below = -math.inf
-    for i in order:                                    # upward: each at least gap above the last
-        out[i] = below = max(ys[i], low, below + gap)
-    above = math.inf
-    for i in reversed(order):                          # downward: under the top, gap below the next
-        out[i] = above = min(out[i], high, above - gap)
-    return out
 
 
 @click.command("campbell")
@@ -544,5 +378,6 @@ def campbell(drive, assignments, catalog_paths, plot_path, as_json, csv_path, or
     orders = None if orders_text is None else _orders(orders_text)
     d = _drive(drive, assignments, catalog_paths, plot_path)
     c = fq.campbell(d, orders, speed_max, speed_min, reference)
-    _emit(csv_path, plot_path, as_json, lambda: _campbell_csv(c), lambda path: _plot_campbell(d, c, path),
+    _emit(csv_path, plot_path, as_json, lambda: _campbell_csv(c),
+          lambda path: write_figure(campbell_figure(c, d.title), path),
           lambda: _campbell_json(d, c), lambda: _print_campbell(d, c))

@@ -16,11 +16,11 @@ import click
 from beltcalc.cli.options import OutputPath, catalog_option, output_options, quantity_option, scene_options
 from beltcalc.cli.contract import checks_json, echo_inputs, entry, fmt, options_text, out_of_range, shown
 from beltcalc.cli.output import (console, dumps, emit_warnings, print_table, progress,
-                                 require_matplotlib, save_figure, strict_option, table_csv, write_atomic, wrote)
+                                 require_matplotlib, strict_option, table_csv, write_atomic, write_figure, wrote)
 from beltcalc.cli.main import option_name
 from beltcalc.design.checks import percent
-from beltcalc.design.motor_report import (SWEEP_COLUMNS, inherited_rows, profile_csv, profile_samples, report_dict,
-                                          report_sections, scene_dict, sweep_table, zone_plot_data)
+from beltcalc.design.motor_report import (SWEEP_COLUMNS, inherited_rows, profile_csv, report_dict, report_sections,
+                                          scene_dict, sweep_table)
 from beltcalc.errors import InputError, UnknownNameError, did_you_mean
 from beltcalc.report import Section
 from beltcalc.design.axis_inputs import PARAMS
@@ -202,7 +202,9 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
             write_atomic(csv_path, profile_csv(sizing))
             wrote(csv_path)
         if plot_path is not None:
-            _plot_profile(sizing, plot_path)
+            from beltcalc.plots import profile_figure
+
+            write_figure(profile_figure(sizing), plot_path, dpi=120)
             wrote(plot_path)
     inherited = {k: v for k, v in values.items() if not v.given and k not in replaced}
     new_axis = any(v.given for v in values.values()) or incline != 0 or counterweight != 0
@@ -372,56 +374,6 @@ def _print(s, sections, values, title) -> None:
               + (f"; given: {', '.join(given)}" if given else ""), markup=False, highlight=False)
 
 
-def _plot_profile(s, path) -> None:
-    """Torque and speed over the cycle (left) and the cycle's points over the motor's
-    torque-speed zones (right); matplotlib is imported here only."""
-    if s.shown is None:
-        raise InputError("no motor fits, so there is no torque profile to plot; give --motor NAME", param="plot")
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    data = list(zip(*profile_samples(s)))
-    m = s.shown.motor
-    fig = plt.figure(figsize=(12, 6))
-    grid = fig.add_gridspec(2, 2, width_ratios=(3, 2))
-    a1 = fig.add_subplot(grid[0, 0])
-    a2 = fig.add_subplot(grid[1, 0], sharex=a1)
-    a3 = fig.add_subplot(grid[:, 1])
-    a1.plot(data[0], data[3], label="motor torque")
-    for level, style, name in ((m.T_n, "--", "rated"), (m.T_max, ":", "peak")):
-        a1.axhline(level, ls=style, color="k", lw=0.8, label=f"{m.name} {name} {level:g} N m")
-        a1.axhline(-level, ls=style, color="k", lw=0.8)
-    a1.set_ylabel("torque [N m]")
-    a1.legend(fontsize=8)
-    a2.plot(data[0], [w * 30 / math.pi for w in data[1]])
-    a2.set_ylabel("motor speed [rpm]")
-    a2.set_xlabel("time [s]")
-    zone = zone_plot_data(s)
-    for key, color, alpha, label in (
-            ("intermittent", "tab:orange", 0.15, "intermittent zone" + (" (assumed)" if zone["intermittent_assumed"]
-                                                                         else "")),
-            ("continuous", "tab:green", 0.25, "continuous zone" if zone["continuous_from_catalog"]
-             else "rated torque T_n (the RMS limit)")):
-        w, t = zip(*zone[key])
-        a3.fill_between(w, t, color=color, alpha=alpha, lw=0)
-        a3.plot(w, t, color=color, lw=1.2, label=label)
-    w, t = zip(*zone["points"])
-    a3.plot(w, t, ".", ms=3, color="tab:blue", label="cycle (|speed|, |torque|)")
-    a3.plot(*zone["rms"], "s", color="tab:green", mec="k", label="RMS torque at the mean speed")
-    if zone["worst"] is not None:
-        a3.plot(*zone["worst"], "x", color="tab:red", ms=9, mew=2, label="smallest margin to the zone")
-    a3.set_xlabel("motor speed [rpm]")
-    a3.set_ylabel("|torque| [N m]")
-    a3.set_xlim(left=0)
-    a3.set_ylim(bottom=0)
-    a3.legend(fontsize=8, loc="upper right")
-    a3.set_title(f"{m.name}: torque-speed zones", fontsize=10)
-    fig.suptitle(f"motor-size: {m.name}, RMS {s.shown.duty.rms_torque:.3g} N m")
-    fig.tight_layout()
-    save_figure(fig, path, dpi=120)
-
-
 _SWEEP_DISPLAY = {"rad/s^2": "rad/s^2", "m/s^2": "m/s^2", "rad/s": "rpm", "m/s": "m/s"}
 
 
@@ -439,7 +391,9 @@ def _render_sweep(name, unit, points, motor, peak_margin, as_json, csv_path, plo
         write_atomic(csv_path, table_csv(st.header, ([repr(x) for x in r] for r in table)))
         wrote(csv_path)
     if plot_path is not None:
-        _plot_sweep(name, unit, table, motor, plot_path)
+        from beltcalc.plots import motor_sweep_figure
+
+        write_figure(motor_sweep_figure(name, unit, table, motor), plot_path, dpi=120)
         wrote(plot_path)
     label = motor.name if motor else "load only (no motor fits)"
     if as_json:
@@ -468,24 +422,3 @@ def _render_sweep(name, unit, points, motor, peak_margin, as_json, csv_path, plo
                   "FAIL: " + ", ".join(c.key.removeprefix("motor_") for c in bad) if bad else ("pass" if cs else "-"),
                   style="bold red" if bad else None)
     console().print(t)
-
-
-def _plot_sweep(name, unit, table, motor, path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    x = [r[0] for r in table]
-    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
-    a1.plot(x, [r[3] for r in table], "o-", label="peak torque")
-    if motor:
-        a1.axhline(motor.T_max, ls=":", color="k", label=f"{motor.name} T_max")
-    a1.set_ylabel("torque [N m]")
-    a1.legend(fontsize=8)
-    a2.plot(x, [r[5] for r in table], "o-", label="E = T_max w t_a (eq. 29)")
-    a2.plot(x, [r[6] for r in table], "s-", label="integral T w dt")
-    a2.set_ylabel("acceleration energy [J]")
-    a2.set_xlabel(f"{name} [{unit}]")
-    a2.legend(fontsize=8)
-    fig.tight_layout()
-    save_figure(fig, path, dpi=120)

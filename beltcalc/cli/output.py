@@ -34,14 +34,12 @@ def require_matplotlib() -> None:
         raise OutputError("--plot needs matplotlib: pip install 'beltcalc[plot]'") from None
 
 
-PLOT_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}   # --plot: a file's suffix -> its format
-
-
 def plot_format(path) -> str:
     """The format a plot is written in to ``path``: the one its suffix names (``.png``,
     ``.pdf``, ``.svg``, in any case); a file written in place with no suffix (a device, a
-    FIFO: ``/dev/stdout``) gets PNG. Another suffix, or none on a file, is a ``ValueError``
-    saying what is allowed.
+    FIFO: ``/dev/stdout``; :func:`beltcalc.cli.writer.resolve_target`) gets PNG. Another
+    suffix, or none on a file, is a ``ValueError`` saying what is allowed
+    (:func:`beltcalc.plots.plot_format`).
 
     >>> plot_format("out.PDF"), plot_format("a/b.svg")
     ('pdf', 'svg')
@@ -53,51 +51,27 @@ def plot_format(path) -> str:
     from pathlib import Path
 
     from beltcalc.cli.writer import resolve_target
-    from beltcalc.units import quote
+    from beltcalc.plots import plot_format as named_format
 
-    suffix = Path(path).suffix
-    if suffix.lower() in PLOT_FORMATS:
-        return PLOT_FORMATS[suffix.lower()]
-    allowed = "a plot is written as .png, .pdf or .svg (the suffix names the format)"
-    if suffix:
-        raise ValueError(f"{quote(str(path), 200)}: {allowed}, not {quote(suffix, 40)}")
+    in_place = False
+    if not Path(path).suffix:
+        try:
+            in_place = resolve_target(path).how == "in place"
+        except (OutputError, OSError):
+            pass
     try:
-        in_place = resolve_target(path).how == "in place"
-    except (OutputError, OSError):
-        in_place = False
-    if in_place:
-        return "png"
-    raise ValueError(f"{quote(str(path), 200)} has no suffix: {allowed}")
+        return named_format(path, in_place)
+    except OutputError as exc:
+        raise ValueError(exc.message) from None
 
 
-def save_figure(fig, path, dpi: int = 110) -> None:
+def write_figure(fig, path, dpi: int = 110) -> None:
     """Write the matplotlib figure ``fig`` to ``path`` in the format its suffix names
     (:func:`plot_format`), through the one writer (atomically, once the result is known
-    good), and close it."""
-    import matplotlib.pyplot as plt
+    good), and close it (:func:`beltcalc.plots.save_figure`)."""
+    from beltcalc.plots import save_figure
 
-    fmt = plot_format(path)
-    try:
-        write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=fmt))
-    finally:
-        plt.close(fig)
-
-
-# (color, line style) of a plot's limit lines, one each: two limits on one panel (a motor's
-# peak and RMS torque) never look alike
-LIMIT_STYLES = (("tab:red", "--"), ("tab:purple", ":"), ("tab:brown", "-."), ("tab:olive", (0, (6, 2, 1, 2, 1, 2))),
-                ("tab:pink", (0, (1, 3))))
-
-
-def limit_style(k: int) -> dict:
-    """Keyword arguments of matplotlib's ``axhline``/``axvline`` for the ``k``-th limit line
-    of a panel (:data:`LIMIT_STYLES`, cycling).
-
-    >>> limit_style(0), limit_style(1)["ls"]
-    ({'color': 'tab:red', 'ls': '--', 'lw': 1.0}, ':')
-    """
-    color, ls = LIMIT_STYLES[k % len(LIMIT_STYLES)]
-    return {"color": color, "ls": ls, "lw": 1.0}
+    save_figure(fig, path, dpi, fmt=plot_format(path), write=write_atomic)
 
 
 def display_value(row: Row) -> str:
@@ -299,12 +273,6 @@ def rows_json(rows: Iterable[Row], **extra) -> str:
     obj = {r.key: {"value": r.value, "unit": r.unit} for r in rows}
     obj.update(extra)
     return dumps(obj)
-
-
-def unit_label(unit: str) -> str:
-    """A unit as a table or axis shows it: ``N m``, ``rad/s``, ``-`` for a plain number."""
-    unit = "" if unit in ("1", "") else unit.replace("**", "^").replace("*", " ")
-    return unit or "-"
 
 
 def inputs_json(params, resolved) -> dict:

@@ -21,10 +21,10 @@ import click
 
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION, option_name
 from beltcalc.cli.options import DriveRef, OutputPath, Tolerance, catalog_option, output_options
-from beltcalc.cli.output import (console, display_unit, display_value, format_number, inputs_json, print_table, unit_label, progress, spinner, dumps, emit_warnings, wrote,
-                                 limit_style, require_matplotlib, save_figure, table_csv, write_atomic)
+from beltcalc.cli.output import (console, display_unit, display_value, format_number, inputs_json, print_table, progress, spinner, dumps, emit_warnings, wrote,
+                                 require_matplotlib, table_csv, write_atomic, write_figure)
 from beltcalc.errors import render
-from beltcalc.report import Row, Section
+from beltcalc.report import Row, Section, unit_label
 from beltcalc.sim.methods import NAMES
 from beltcalc.sim.scenes.base import Scene
 
@@ -122,7 +122,10 @@ def run_command(spec: Scene, scene: str, assignments, dt, method, rtol, atol, ma
     if plot_path is not None:
         if not out.result.t.size:
             raise click.UsageError("--plot draws a time series; this run has none (--steady-state-only)")
-        _plot(spec, out, out.window if out.window is not None else values.get("window"), plot_path)
+        from beltcalc.plots import scene_figure
+
+        shaded = out.window if out.window is not None else values.get("window")
+        write_figure(scene_figure(spec, out, shaded), plot_path)
         wrote(plot_path)
     if as_json:
         click.echo(dumps(dict(out.to_dict(scene_def.title, modes), inputs=inputs_json(spec.params, resolved))))
@@ -232,7 +235,10 @@ def _render_sweep(spec: Scene, sweep, title: str, as_json, csv_path, plot_path, 
     if len(shown) == swept:          # a drive file names no columns: the first few it reports
         shown += list(range(swept, min(len(columns), swept + 6)))
     if plot_path is not None:
-        _plot_sweep([columns[i] for i in shown], [[r[i] for i in shown] for r in table], plot_path, swept)
+        from beltcalc.plots import sweep_figure
+
+        write_figure(sweep_figure([columns[i] for i in shown], [[r[i] for i in shown] for r in table], swept),
+                     plot_path)
         wrote(plot_path)
     if as_json:
         click.echo(dumps(sweep.to_dict(title)))
@@ -283,97 +289,6 @@ def _print_work_precision(rows, title: str) -> None:
                   "-" if r.error is None else format_number(r.wall_time * 1e3, 3),
                   str(r.rhs_calls), str(r.steps), "-" if r.error is None else f"{r.error:.2g}", r.note)
     console().print(t)
-
-
-def _plot(spec: Scene, out, window: float | None, path) -> None:
-    """The scene's panels over time, each in the unit its label names (``[mm]``), with the
-    limit of every check that bounds a plotted signal (dashed, at +-limit where the signal
-    changes sign) and the steady window shaded."""
-    from beltcalc.units import convert
-
-    result = out.result
-    panels, limits = [], []
-    for ylabel, lines in spec.plot:
-        shown = [s for s, _ in lines if s in result.signals]
-        unit = ylabel[ylabel.rfind("[") + 1:-1] if ylabel.endswith("]") else ""
-        unit = unit.replace(" ", "*")
-
-        def to_panel(value, si, unit=unit):
-            return value if not unit or si == unit else convert(value, si, unit)
-
-        panels.append((ylabel, [(result.t, to_panel(result[s], result.units[s]), "-", label)
-                                for s, label in lines if s in result.signals]))
-        here: dict[float, list] = {}        # one line per level, naming every check at it
-        for c in out.checks:
-            hit = [s for s in c.signals if s in shown]
-            if c.limit is None or not hit:
-                continue
-            # a safety factor's check bounds its signals at ``level`` (in their unit), not at its limit
-            level = float(to_panel(c.limit, c.unit) if c.level is None else to_panel(c.level, result.units[hit[0]]))
-            both = any(float(to_panel(result[s], result.units[s]).min()) < -0.1 * level for s in hit)
-            names, was = here.get(level, ([], False))
-            here[level] = (names + [c.name], was or both)
-        limits.append([(level, " / ".join(names) + " limit" + (" (+-)" if both else ""), both)
-                       for level, (names, both) in here.items()])
-    _save_plot(path, "time [s]", panels, (8, 2.7), limits=limits,
-               span=None if window is None else (window, float(result.t[-1])))
-
-
-def _plot_sweep(columns, table, path, swept: int = 1) -> None:
-    """One panel per shown column against the first swept value, in display units; with
-    several swept values, one line per combination of the others (at most 8)."""
-    from beltcalc.units import convert
-
-    groups: dict[tuple, list] = {}
-    for r in table:
-        groups.setdefault(tuple(r[1:swept]), []).append(r)
-    if len(groups) > 8:
-        keep = list(groups)[:: -(-len(groups) // 8)]
-        groups = {k: groups[k] for k in keep}
-
-    def legend(k):
-        return ", ".join(f"{c.label} = {format_number(convert(v, c.unit, c.display), 4)} {unit_label(c.display)}"
-                         for c, v in zip(columns[1:swept], k)) or None
-
-    panels = [(f"{c.label}\n[{unit_label(c.display)}]",
-               [([convert(r[0], columns[0].unit, columns[0].display) for r in rows],
-                 [None if r[i] is None else convert(r[i], c.unit, c.display) for r in rows], "o-", legend(k))
-                for k, rows in groups.items()])
-              for i, c in enumerate(columns) if i >= swept]
-    _save_plot(path, f"{columns[0].label} [{unit_label(columns[0].display)}]", panels, (7, 2.4), ylabel_size=7)
-
-
-def _save_plot(path, xlabel: str, panels, size: tuple[float, float], ylabel_size=None, limits=None,
-               span=None) -> None:
-    """:func:`panels_figure` written to ``path`` (PNG, PDF or SVG by its suffix)."""
-    save_figure(panels_figure(xlabel, panels, size, ylabel_size, limits, span), path)
-
-
-def panels_figure(xlabel: str, panels, size: tuple[float, float], ylabel_size=None, limits=None, span=None):
-    """A matplotlib figure of ``panels`` (ylabel, [(x, y, style, legend or None)]) stacked over
-    one x axis; ``limits[k]`` are the limit lines (level, legend, at +-level) of panel k, each
-    of its own color and line style (:func:`~beltcalc.cli.output.limit_style`) and named in
-    the legend; ``span`` a shaded (start, end) of the x axis (the steady window)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(size[0], size[1] * len(panels)), squeeze=False)
-    for k, (ax, (ylabel, lines)) in enumerate(zip(axes[:, 0], panels)):
-        for x, y, style, label in lines:
-            ax.plot(x, y, style, label=label)
-        for j, (level, label, both) in enumerate(limits[k] if limits else ()):
-            ax.axhline(level, label=label, **limit_style(j))
-            if both:
-                ax.axhline(-level, **limit_style(j))
-        if span is not None:
-            ax.axvspan(*span, color="0.5", alpha=0.12, lw=0, label="steady window" if k == 0 else None)
-        ax.set_ylabel(ylabel, fontsize=ylabel_size)
-        if any(label for *_, label in lines) or (limits and limits[k]) or (span is not None and k == 0):
-            ax.legend(fontsize=8)
-    axes[-1, 0].set_xlabel(xlabel)
-    fig.tight_layout()
-    return fig
 
 
 LIST_PARAMS = "beltcalc.list_params"     # ctx.meta key: --list-params was given

@@ -70,7 +70,7 @@ def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts,
     then ``runs`` draws, rows streamed to the files, the summary rendered."""
     from dataclasses import replace
 
-    from beltcalc.cli.output import dumps, emit_warnings, progress, require_matplotlib, wrote, write_atomic
+    from beltcalc.cli.output import dumps, emit_warnings, progress, require_matplotlib, write_atomic, write_figure, wrote
     from beltcalc.errors import render
     from beltcalc.sim.scenes.base import run_scene
     from beltcalc.sim.study.plan import Plan
@@ -146,7 +146,9 @@ def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts,
     obj = _to_dict(title, spec, resolved, dists, input_keys, columns, nominal_values, summary, runs, seed, how,
                    warnings)
     if plot_path is not None:
-        _plot(summary, dists, columns, limits, spec, plot_path)
+        from beltcalc.plots import study_figure
+
+        write_figure(study_figure(summary, columns, limits, len(dists), spec.sweep_columns), plot_path)
         wrote(plot_path)
     if as_json:
         from beltcalc.cli.output import inputs_json
@@ -278,7 +280,7 @@ def _print(obj, summary, columns, dists) -> None:
     from rich.table import Table
 
     from beltcalc.cli.output import console, format_number
-    from beltcalc.cli.output import unit_label
+    from beltcalc.report import unit_label
     from beltcalc.sim.study.tolerance import PERCENTILES
 
     out = console(200)
@@ -324,46 +326,3 @@ def _print(obj, summary, columns, dists) -> None:
 
 def _num(x) -> str:
     return "-" if x is None else f"{x:+.2f}"
-
-
-def _plot(summary, dists, columns, limits, spec, path) -> None:
-    """Histograms of the chosen outputs (the limits' columns, then the scene's sweep
-    columns), each beside a tornado chart of its standardised regression coefficients."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    from beltcalc.cli.output import limit_style, save_figure, unit_label
-    from beltcalc.units import convert
-
-    keys = list(columns)
-    live = [k for k in keys if (summary.outputs.get(k, {}).get("sd") or 0) > 0]
-    chosen = [lim.key for lim in limits] + [k for k in spec.sweep_columns if k in live] + live
-    chosen = list(dict.fromkeys(k for k in chosen if k in columns))[:4] or keys[:1]
-    k = len(dists)
-    fig, axes = plt.subplots(len(chosen), 2, figsize=(10, 2.6 * len(chosen)), squeeze=False)
-    for (ax_h, ax_t), key in zip(axes, chosen):
-        col, e = columns[key], summary.outputs.get(key, {})
-        unit = col.display or col.unit or "1"
-        y = summary.sample[:, k + keys.index(key)]
-        y = y[np.isfinite(y)]
-        if unit != (col.unit or "1") and (col.unit or "1") != "1":
-            y = np.array([convert(v, col.unit, unit) for v in y]) if y.size else y
-        ax_h.hist(y, bins=40, color="tab:blue", alpha=0.8)
-        for j, lim in enumerate(lim for lim in limits if lim.key == key):
-            level = lim.bound if unit == (col.unit or "1") else convert(lim.bound, col.unit, unit)
-            ax_h.axvline(level, label=f"limit {lim.op} {level:.6g}", **limit_style(j))
-            ax_h.legend(fontsize=8)
-        ax_h.set_xlabel(f"{col.label} [{unit_label(unit)}]", fontsize=8)
-        ax_h.set_ylabel("runs")
-        infl = [i for i in e.get("influence", []) if i["src"] is not None][::-1]
-        ax_t.barh([i["input"] for i in infl], [i["src"] for i in infl],
-                  color=["tab:red" if i["src"] < 0 else "tab:green" for i in infl])
-        ax_t.axvline(0, color="0.3", lw=0.8)
-        ax_t.set_xlim(-1.05, 1.05)
-        ax_t.set_xlabel("standardised regression coefficient", fontsize=8)
-        ax_t.set_title(f"what moves it (R^2 of the linear fit {e['r2']:.2f})" if e.get("r2") is not None
-                       else "what moves it", fontsize=8)
-    fig.tight_layout()
-    save_figure(fig, path)

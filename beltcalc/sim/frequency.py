@@ -30,6 +30,7 @@ import numpy as np
 
 from beltcalc.errors import InputError, did_you_mean
 
+SHARE_SHOWN = 0.10    # a mode's elements named with their share of its strain energy: those above 10 %
 HESSENBERG_SIZE = 150        # states from which H(jw) uses one Hessenberg reduction
 
 
@@ -95,6 +96,12 @@ class ModeShape:
     phase: dict[str, float]
     energy: dict[str, float]
     dominant: str
+
+    def shares(self, above: float = SHARE_SHOWN) -> list[tuple[str, float]]:
+        """The elements holding over ``above`` of the mode's strain energy with their shares,
+        largest first (the ones to stiffen); where none does, the largest alone."""
+        big = sorted(((e, v) for e, v in self.energy.items() if v > above), key=lambda ev: -ev[1])
+        return big or [(self.dominant, self.energy[self.dominant])]
 
 
 def mode_shapes(net, taut: tuple[bool, ...] | None = None) -> list[ModeShape]:
@@ -261,6 +268,22 @@ class Response:
     def phase(self, output: str, input: str) -> np.ndarray:
         """Phase of H [deg] of one pair over omega (unwrapped)."""
         return np.degrees(np.unwrap(np.angle(self.H[:, self.outputs.index(output), self.inputs.index(input)])))
+
+    def pairs(self) -> list[tuple[str, str, str]]:
+        """(output, input, unit of |H|) of every pair, output by output."""
+        return [(y, u, ratio_unit(self.units[i], self.input_units[j]))
+                for i, y in enumerate(self.outputs) for j, u in enumerate(self.inputs)]
+
+
+def ratio_unit(output_unit: str, input_unit: str) -> str:
+    """The unit of |H|: the output's per the input's, ``rad/s/(N m)``.
+
+    >>> ratio_unit("rad/s", "N m"), ratio_unit("N m", "N m"), ratio_unit("rad", "N")
+    ('rad/s/(N m)', '(N m)/(N m)', 'rad/N')
+    """
+    top = f"({output_unit})" if " " in output_unit else output_unit
+    bottom = f"({input_unit})" if (" " in input_unit or "/" in input_unit) else input_unit
+    return f"{top}/{bottom}"
 
 
 def frequency_response(net, inputs: list[str], outputs: list[str], omega, taut=None) -> Response:

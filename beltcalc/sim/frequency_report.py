@@ -247,17 +247,6 @@ def response(net, inputs: list[str] | None = None, outputs: list[str] | None = N
     return fr.frequency_response(net, inputs, outputs, omega)
 
 
-def ratio_unit(output_unit: str, input_unit: str) -> str:
-    """The unit of |H|: the output's per the input's, ``rad/s/(N m)``.
-
-    >>> ratio_unit("rad/s", "N m"), ratio_unit("N m", "N m"), ratio_unit("rad", "N")
-    ('rad/s/(N m)', '(N m)/(N m)', 'rad/N')
-    """
-    top = f"({output_unit})" if " " in output_unit else output_unit
-    bottom = f"({input_unit})" if (" " in input_unit or "/" in input_unit) else input_unit
-    return f"{top}/{bottom}"
-
-
 # --- Campbell diagram ---------------------------------------------------------------------------------
 def speed_ratio(net, node: str, to: str) -> float:
     """omega_node / omega_to when the drive turns as a rigid body (no coupling or taut

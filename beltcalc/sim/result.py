@@ -137,6 +137,54 @@ class SimResult:
                                       "signal": self.error_signal}
         return df
 
+    def plot(self, signals: list[str] | None = None, path=None, window: float | None = None):
+        """A figure of signals over time: one panel per unit, one line per signal, in SI.
+
+        Needs matplotlib (``pip install "beltcalc[plot]"``), imported here on its ``Agg``
+        backend: no display is needed (:mod:`beltcalc.plots`).
+
+        Parameters
+        ----------
+        signals : list of str, optional
+            The signals to draw; default every node speed (``omega_NODE`` [rad/s],
+            ``v_NODE`` [m/s]).
+        path : str or Path, optional
+            Also write the figure there: PNG, PDF or SVG, as the suffix names
+            (:func:`beltcalc.plots.save_figure`, which closes it in pyplot).
+        window : float, optional
+            The start of a steady window [s], shaded up to the end of the run.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Examples
+        --------
+        >>> import beltcalc
+        >>> r = beltcalc.simulate(beltcalc.load_drive("minimal"))
+        >>> fig = r.plot(["omega_rotor", "omega_pulley2", "M_motor"], window=2.0)
+        >>> [ax.get_ylabel() for ax in fig.axes]
+        ['[rad/s]', '[N m]']
+        >>> [line.get_label() for line in fig.axes[0].get_lines()]
+        ['omega_rotor', 'omega_pulley2']
+        >>> [line.get_label() for line in r.plot().axes[0].get_lines()]       # every node's speed
+        ['omega_rotor', 'omega_pulley1', 'omega_pulley2']
+        """
+        from beltcalc.errors import UnknownNameError, did_you_mean
+        from beltcalc.plots import save_figure, signals_figure
+
+        if signals is None:
+            signals = [n for n in self.signals if (n.startswith("omega_") and self.units[n] == "rad/s")
+                       or (n.startswith("v_") and self.units[n] == "m/s")]
+        for name in signals:
+            if name not in self.signals:
+                raise UnknownNameError(f"no signal {name!r} in this result; {did_you_mean(name, self.signals)}",
+                                       param="signals")
+        fig = signals_figure(self, list(signals), window)
+        if path is not None:
+            save_figure(fig, path)
+        return fig
+
     def csv_text(self, names: list[str] | None = None) -> str:
         """CSV with the units in the header (``t_s``, ``omega_3_rad_per_s``, ...)."""
         names = names or list(self.signals)

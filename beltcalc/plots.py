@@ -2,8 +2,9 @@
 library objects and SI data (shown in the units its axes name), and :func:`save_figure`
 writes one as PNG, PDF or SVG by the file's suffix.
 
-matplotlib (``pip install "beltcalc[plot]"``) is imported inside the functions only, on its
-``Agg`` backend (no display needed): ``import beltcalc.plots`` loads neither matplotlib nor
+matplotlib (``pip install "beltcalc[plot]"``) is imported inside the functions only, and
+figures are made outside pyplot (no display needed, no backend switched, nothing to close):
+``import beltcalc.plots`` loads neither matplotlib nor
 scipy nor pint. The command line's ``--plot`` draws with these builders
 (:meth:`beltcalc.sim.result.SimResult.plot` too).
 """
@@ -25,17 +26,20 @@ LIMIT_STYLES = (("tab:red", "--"), ("tab:purple", ":"), ("tab:brown", "-."), ("t
                 ("tab:pink", (0, (1, 3))))
 
 
-def _pyplot():
-    """matplotlib's pyplot on the Agg backend."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def _new_figure(size: tuple[float, float]):
+    """A matplotlib ``Figure`` of ``size`` inches, outside pyplot: no backend is chosen or
+    switched (a notebook keeps its own) and no global registry holds it."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
-    return plt
+    fig = Figure(figsize=size)
+    FigureCanvasAgg(fig)           # a renderer for text extents (Campbell's labels), as pyplot's Agg gave
+    return fig
 
 
 def _subplots(rows: int, cols: int, size: tuple[float, float], **kw):
-    return _pyplot().subplots(rows, cols, figsize=size, squeeze=False, **kw)
+    fig = _new_figure(size)
+    return fig, fig.subplots(rows, cols, squeeze=False, **kw)
 
 
 def plot_format(path, in_place: bool | None = None) -> str:
@@ -69,18 +73,14 @@ def plot_format(path, in_place: bool | None = None) -> str:
 
 def save_figure(fig, path, dpi: int = 110, fmt: str | None = None, write=None) -> None:
     """Write the figure ``fig`` to ``path`` in the format ``fmt`` (default: the one its suffix
-    names, :func:`plot_format`) at ``dpi`` dots per inch, and close it (pyplot keeps no
-    reference). ``write(path, fill)`` puts the file in place, ``fill(tmp)`` writing its bytes
-    to ``tmp`` (the command line's one writer, atomic); default: saved to ``path`` itself."""
-    plt = _pyplot()
-    try:
-        fmt = plot_format(path) if fmt is None else fmt
-        if write is None:
-            fig.savefig(path, dpi=dpi, format=fmt)
-        else:
-            write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=fmt))
-    finally:
-        plt.close(fig)
+    names, :func:`plot_format`) at ``dpi`` dots per inch. ``write(path, fill)`` puts the file in
+    place, ``fill(tmp)`` writing its bytes to ``tmp`` (the command line's one writer, atomic);
+    default: saved to ``path`` itself."""
+    fmt = plot_format(path) if fmt is None else fmt
+    if write is None:
+        fig.savefig(path, dpi=dpi, format=fmt)
+    else:
+        write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=fmt))
 
 
 def limit_style(k: int) -> dict:
@@ -100,8 +100,7 @@ def panels_figure(xlabel: str, panels, size: tuple[float, float], ylabel_size=No
     axis, each ``size`` (width, height) [in]; ``limits[k]`` are the limit lines (level,
     legend, at +-level) of panel k, each of its own color and line style (:func:`limit_style`)
     and named in the legend; ``span`` a shaded (start, end) of the x axis (the steady window)."""
-    plt = _pyplot()
-    fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(size[0], size[1] * len(panels)), squeeze=False)
+    fig, axes = _subplots(len(panels), 1, (size[0], size[1] * len(panels)), sharex=True)
     for k, (ax, (ylabel, lines)) in enumerate(zip(axes[:, 0], panels)):
         for x, y, style, label in lines:
             ax.plot(x, y, style, label=label)
@@ -339,10 +338,9 @@ def profile_figure(sizing):
     if s.shown is None:
         raise InputError("no motor fits, so there is no torque profile to plot; choose one by name (`motor`)",
                          param="plot")
-    plt = _pyplot()
     data = list(zip(*profile_samples(s)))
     m = s.shown.motor
-    fig = plt.figure(figsize=(12, 6))
+    fig = _new_figure((12, 6))
     grid = fig.add_gridspec(2, 2, width_ratios=(3, 2))
     a1 = fig.add_subplot(grid[0, 0])
     a2 = fig.add_subplot(grid[1, 0], sharex=a1)
@@ -385,9 +383,9 @@ def motor_sweep_figure(name: str, unit: str, table, motor=None):
     """A motor-size sweep of ``name`` [``unit``, SI]: peak torque (with ``motor``'s T_max)
     and the acceleration energy, by the paper's eq. 29 and integrated, over the swept value;
     ``table`` the rows of :func:`beltcalc.design.motor_report.sweep_table`."""
-    plt = _pyplot()
     x = [r[0] for r in table]
-    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
+    fig, axes = _subplots(2, 1, (8, 6), sharex=True)
+    a1, a2 = axes[:, 0]
     a1.plot(x, [r[3] for r in table], "o-", label="peak torque")
     if motor:
         a1.axhline(motor.T_max, ls=":", color="k", label=f"{motor.name} T_max")
@@ -413,12 +411,11 @@ def study_figure(summary, columns: dict, limits, varied: int, preferred=()):
 
     from beltcalc.units import convert
 
-    plt = _pyplot()
     keys = list(columns)
     live = [k for k in keys if (summary.outputs.get(k, {}).get("sd") or 0) > 0]
     chosen = [lim.key for lim in limits] + [k for k in preferred if k in live] + live
     chosen = list(dict.fromkeys(k for k in chosen if k in columns))[:4] or keys[:1]
-    fig, axes = plt.subplots(len(chosen), 2, figsize=(10, 2.6 * len(chosen)), squeeze=False)
+    fig, axes = _subplots(len(chosen), 2, (10, 2.6 * len(chosen)))
     for (ax_h, ax_t), key in zip(axes, chosen):
         col, e = columns[key], summary.outputs.get(key, {})
         unit = col.display or col.unit or "1"

@@ -120,22 +120,18 @@ def test_plot_draws_the_limits_of_the_checks(tmp_path, monkeypatch):
     # the limit lines come from the checks that bound a plotted signal: breakdown torque on the
     # motor-torque panel, on the strand-force panel the force the chain's safety rule allows,
     # F_B / 6 (Diamond Chain, issue 28); the steady window shaded
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import beltcalc.plots
 
     drawn = {}
-    real_close = plt.close
+    real_save = beltcalc.plots.save_figure
 
-    def keep(fig=None):
-        if fig is not None and hasattr(fig, "axes"):
-            drawn["axes"] = [(ax.get_ylabel(), [ln.get_label() for ln in ax.get_lines()],
-                              [ln.get_ydata()[0] for ln in ax.get_lines() if "limit" in ln.get_label()])
-                             for ax in fig.axes]
-        real_close(fig)
+    def keep(fig, *args, **kw):
+        drawn["axes"] = [(ax.get_ylabel(), [ln.get_label() for ln in ax.get_lines()],
+                          [ln.get_ydata()[0] for ln in ax.get_lines() if "limit" in ln.get_label()])
+                         for ax in fig.axes]
+        real_save(fig, *args, **kw)
 
-    monkeypatch.setattr(plt, "close", keep)
+    monkeypatch.setattr(beltcalc.plots, "save_figure", keep)
     png = tmp_path / "rt.png"
     ok(run(*ROLLERS, "--set", "rollers=2", "--plot", str(png)))
     panels = {label: (lines, levels) for label, lines, levels in drawn["axes"]}

@@ -68,7 +68,7 @@ def plot_format(path) -> str:
 def write_figure(fig, path, dpi: int = 110) -> None:
     """Write the matplotlib figure ``fig`` to ``path`` in the format its suffix names
     (:func:`plot_format`), through the one writer (atomically, once the result is known
-    good), and close it (:func:`beltcalc.plots.save_figure`)."""
+    good) (:func:`beltcalc.plots.save_figure`)."""
     from beltcalc.plots import save_figure
 
     save_figure(fig, path, dpi, fmt=plot_format(path), write=write_atomic)

@@ -150,7 +150,8 @@ class SimResult:
             ``v_NODE`` [m/s]).
         path : str or Path, optional
             Also write the figure there: PNG, PDF or SVG, as the suffix names
-            (:func:`beltcalc.plots.save_figure`, which closes it in pyplot).
+            (:func:`beltcalc.plots.save_figure`). The figure is made outside pyplot: it
+            shows in a notebook by being the cell's value, and no backend is switched.
         window : float, optional
             The start of a steady window [s], shaded up to the end of the run.
 

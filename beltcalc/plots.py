@@ -7,6 +7,12 @@ figures are made outside pyplot (no display needed, no backend switched, nothing
 ``import beltcalc.plots`` loads neither matplotlib nor
 scipy nor pint. The command line's ``--plot`` draws with these builders
 (:meth:`beltcalc.sim.result.SimResult.plot` too).
+
+References:
+
+[W21] D. Wojtkowiak, K. Talaska, D. Wilczynski, J. Gorecki, K. Walesa, "Determining the
+    Power Consumption of the Automatic Device for Belt Perforation Based on the Dynamic
+    Model", Energies 14 (2021) 317: the energy of the acceleration phase [W21 eq. 29].
 """
 
 from __future__ import annotations
@@ -381,7 +387,7 @@ def profile_figure(sizing):
 
 def motor_sweep_figure(name: str, unit: str, table, motor=None):
     """A motor-size sweep of ``name`` [``unit``, SI]: peak torque (with ``motor``'s T_max)
-    and the acceleration energy, by the paper's eq. 29 and integrated, over the swept value;
+    and the acceleration energy, by [W21 eq. 29] and integrated, over the swept value;
     ``table`` the rows of :func:`beltcalc.design.motor_report.sweep_table`."""
     x = [r[0] for r in table]
     fig, axes = _subplots(2, 1, (8, 6), sharex=True)

@@ -12,7 +12,7 @@ import pytest
 
 from beltcalc.errors import InputError
 from beltcalc.formulas.geometry import belt_pitch_length
-from beltcalc.sim.beltpath import Circle, Eccentric, eccentric_ratio, loop
+from beltcalc.sim.elements.beltpath import Circle, Eccentric, eccentric_ratio, loop
 
 # a sewing-machine-sized drive: motor pulley r1, rim r2 = 1.375 r1 (the paper's U12), the roller
 # under the slack span, its pivot 2 mm eccentric

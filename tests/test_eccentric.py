@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from beltcalc.sim.beltpath import Eccentric, eccentric_ratio
+from beltcalc.sim.elements.beltpath import Eccentric, eccentric_ratio
 from beltcalc.sim.core import SolverConfig, simulate
-from beltcalc.sim.eccentric import EccentricBelt
+from beltcalc.sim.elements.eccentric import EccentricBelt
 from beltcalc.sim.network import Coupling, Inertia, Load, Network
 
 GEO = Eccentric(r1=0.02, r2=0.0275, a=0.30, r3=0.015, px=0.15, py=-0.030, delta=0.002)

@@ -27,8 +27,8 @@ from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
 from beltcalc.cli.main import cli
-from beltcalc.sim.beltpath import Eccentric
-from beltcalc.sim.eccentric import EccentricBelt, contact_limit
+from beltcalc.sim.elements.beltpath import Eccentric
+from beltcalc.sim.elements.eccentric import EccentricBelt, contact_limit
 from beltcalc.sim.network import Inertia, Network
 from beltcalc.sim.scenes import SCENES
 

@@ -210,5 +210,6 @@ def test_the_old_spelling_check_finds_them(text, found):
 def test_the_issues_equations_are_found_where_they_are(citation, where):
     assert citation in {f"{c.key} {c.locator}" for c in _cited() if c.where == where}
     module = where.split(".")
-    files = [ROOT.joinpath(*module[:k]).with_suffix(".py") for k in range(len(module), 1, -1)]
+    files = [f for k in range(len(module), 1, -1)
+             for f in (ROOT.joinpath(*module[:k]).with_suffix(".py"), ROOT.joinpath(*module[:k], "__init__.py"))]
     assert f"[{citation}]" in next(f for f in files if f.exists()).read_text(encoding="utf-8")

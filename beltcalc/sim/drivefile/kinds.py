@@ -123,7 +123,7 @@ class NodeKind(Kind):
 class CouplingKind(Kind):
     """``[[coupling]]``: a spring-damper with a ratio (:class:`~beltcalc.sim.elements.Coupling`),
     rigid (a :class:`~beltcalc.sim.elements.Gear`), or a belt with an eccentric tension roller
-    (:class:`~beltcalc.sim.eccentric.EccentricBelt`)."""
+    (:class:`~beltcalc.sim.elements.eccentric.EccentricBelt`)."""
 
     section = "coupling"
     node_key = "between"
@@ -171,9 +171,9 @@ class CouplingKind(Kind):
 
     @classmethod
     def eccentric(cls, b, e: Entry, ends, j, C, d, U) -> None:
-        """A belt coupling with an eccentric tension roller (:class:`~beltcalc.sim.eccentric.EccentricBelt`)."""
-        from beltcalc.sim.beltpath import Eccentric
-        from beltcalc.sim.eccentric import EccentricBelt
+        """A belt coupling with an eccentric tension roller (:class:`~beltcalc.sim.elements.eccentric.EccentricBelt`)."""
+        from beltcalc.sim.elements.beltpath import Eccentric
+        from beltcalc.sim.elements.eccentric import EccentricBelt
 
         if j is None:
             b.fail(e, "eccentricity", "a tension roller needs a belt between two nodes")

@@ -59,7 +59,7 @@ PARAMS += [
                                   "without one, the paper's belt; given: tension-only spans)", required=False),
 ] + TIMING
 
-#: the roller's values by the scene's names (:func:`beltcalc.sim.eccentric.refuse`)
+#: the roller's values by the scene's names (:func:`beltcalc.sim.elements.eccentric.refuse`)
 ROLLER = {"r1": "motor_pulley_radius", "r3": "roller_radius", "a": "belt_center_distance", "px": "roller_pivot_x",
           "py": "roller_pivot_y", "delta": "roller_eccentricity"}
 
@@ -83,14 +83,14 @@ def check(p: dict) -> None:
         if p.get("belt_pretension") is not None:
             require_range("belt_pretension", p["belt_pretension"], "N", low=0.0)
         if p.get("roller_eccentricity", 0.0) > 0:      # else the roller's values change nothing
-            from beltcalc.sim.eccentric import refuse
+            from beltcalc.sim.elements.eccentric import refuse
 
             refuse(roller_geometry(p), ROLLER)
 
 
 def roller_geometry(p: dict):
-    """The eccentric roller's :class:`~beltcalc.sim.beltpath.Eccentric` of the scene's values."""
-    from beltcalc.sim.beltpath import Eccentric
+    """The eccentric roller's :class:`~beltcalc.sim.elements.beltpath.Eccentric` of the scene's values."""
+    from beltcalc.sim.elements.beltpath import Eccentric
 
     r1 = p["motor_pulley_radius"]
     return Eccentric(r1=r1, r2=p["U12"] * r1, a=p["belt_center_distance"], r3=p["roller_radius"],
@@ -139,7 +139,7 @@ def build(p: dict, angle_loads: bool = False) -> Network:
 
     With ``angle_loads`` the loads follow the shaft angle, sin(phi), instead of sin(w t):
     the network is then nonlinear. With the eccentric roller and ``belt_pretension`` the
-    belt's spans are tension-only (:class:`~beltcalc.sim.eccentric.EccentricBelt`).
+    belt's spans are tension-only (:class:`~beltcalc.sim.elements.eccentric.EccentricBelt`).
     """
     check(p)
     values = {alias: p[name] for name, alias in ALIASES.items()}
@@ -153,7 +153,7 @@ def build(p: dict, angle_loads: bool = False) -> Network:
     if p.get("belt_pretension") is not None:
         # the drive file has no key for it: the scene gives it to the eccentric belt (none
         # without eccentricity: the constant-ratio coupling has no spans)
-        from beltcalc.sim.eccentric import EccentricBelt
+        from beltcalc.sim.elements.eccentric import EccentricBelt
 
         net.elements = [el.with_pretension(p["belt_pretension"]) if isinstance(el, EccentricBelt) else el
                         for el in net.elements]
@@ -317,12 +317,12 @@ def _span_forces(net, values: dict, result, start: float) -> tuple[list[Row], li
     window (the check: a span pulls only while its force is > 0) and over the whole run (the
     start from rest included), the share of the window it is slack; and, where a span
     slackens, the eccentricity from which it does (quasi-static,
-    :meth:`~beltcalc.sim.eccentric.EccentricBelt.slackening_eccentricity`).
+    :meth:`~beltcalc.sim.elements.eccentric.EccentricBelt.slackening_eccentricity`).
 
     Without ``belt_pretension`` the spans are two-way springs without one (the paper's belt):
     their force changes stand for their forces, and any fall below zero is a span that would
     need a pretension to stay taut."""
-    from beltcalc.sim.eccentric import EccentricBelt
+    from beltcalc.sim.elements.eccentric import EccentricBelt
 
     belt = next(el for el in net.elements if isinstance(el, EccentricBelt))
     f0, name = belt.pretension, belt.name

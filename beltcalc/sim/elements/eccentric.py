@@ -26,7 +26,7 @@ span's slack switch is a kink of the right-hand side (unloading) or a jump of it
 result against a solver stopped at every switch).
 
 The loop length L(theta) is a smooth periodic function of the roller angle: it is sampled
-exactly (:mod:`beltcalc.sim.beltpath`) at ``HARMONICS`` x 4 angles and held as its Fourier
+exactly (:mod:`beltcalc.sim.elements.beltpath`) at ``HARMONICS`` x 4 angles and held as its Fourier
 series, so L, L' and L'' cost a few vector operations over any number of states.
 :func:`refuse` turns away a geometry the model cannot hold (the pivot outside the roller, the
 roller on a pulley or through the tight span, the belt leaving the roller), each with its cause.
@@ -47,7 +47,7 @@ from typing import ClassVar, Mapping
 import numpy as np
 
 from beltcalc.errors import InputError, require_positive, require_range
-from beltcalc.sim.beltpath import Circle, Eccentric, span
+from beltcalc.sim.elements.beltpath import Circle, Eccentric, span
 from beltcalc.sim.elements import Element
 
 HARMONICS = 64     # Fourier terms of L(theta); the coefficients fall geometrically (checked on build)
@@ -61,7 +61,7 @@ KEYS = {"r1": "pulley_radius", "r3": "roller_radius", "a": "center_distance", "p
 class EccentricBelt(Element):
     """Belt ``name`` from pulley node ``i`` (pitch radius ``r1``) to rim node ``j`` (``r2``),
     torsional stiffness ``C`` and damping ``d`` as seen at ``i`` (the paper's C1, d), the roller
-    ``geometry`` (:class:`~beltcalc.sim.beltpath.Eccentric`; its r1, r2 are the pulleys'), and
+    ``geometry`` (:class:`~beltcalc.sim.elements.beltpath.Eccentric`; its r1, r2 are the pulleys'), and
     the spans' ``pretension`` F_0 [N] (None: two-way spans without one, the paper's belt).
     Outputs: ``T_<name>`` the torque on ``i`` against its motion [N m], ``U_<name>`` the
     instantaneous ratio (E5), ``dF_<name>_tight`` / ``dF_<name>_slack`` the spans' force change

@@ -70,3 +70,12 @@ def test_importing_plots_loads_no_matplotlib_scipy_or_pint():
             "print(sorted(m for m in ('matplotlib', 'scipy', 'pint') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_a_result_plot_leaves_pyplot_and_the_backend_alone():
+    # a notebook user's backend is never switched: the figure is made outside pyplot
+    pytest.importorskip("matplotlib")
+    code = ("import sys, beltcalc; r = beltcalc.simulate(beltcalc.load_drive('minimal')); fig = r.plot(); "
+            "print('matplotlib.pyplot' in sys.modules, type(fig).__name__, len(fig.axes))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "Figure", "1"]

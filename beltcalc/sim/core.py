@@ -39,7 +39,7 @@ from beltcalc.sim.methods import METHODS, NAMES, SolverConfig
 from beltcalc.sim.network import Network
 from beltcalc.sim.propagate import one_piece, propagate, reference_rows
 from beltcalc.sim.result import SimResult
-from beltcalc.sim.switching import EPS, piecewise_exact
+from beltcalc.sim.switching import EPS, piecewise_exact, switched_history
 
 __all__ = ["SolverConfig", "simulate", "choose_method", "conditioning", "estimate_error", "run_exact",
            "one_piece_accelerations"]
@@ -519,6 +519,8 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra, 
     for (name, unit), row in zip(network.state_names(), x):
         signals[name], units[name] = row, unit
     network.seed_generators(t, network.generators(t) if g is None else g)
+    if network.switched and "switched" in extra:
+        network.seed_switched(t, switched_history(t, extra["switched"]))
     try:
         if network.smooth and network.linear:
             accel = one_piece_accelerations(network, t, x)
@@ -533,6 +535,7 @@ def _outputs(network: Network, t, x, method, reason, wall, steps, calls, extra, 
                 signals[name], units[name] = value, unit
     finally:
         network.seed_generators(t, None)
+        network.seed_switched(None, None)
     return SimResult(t=t, signals=signals, units=units, method=method, reason=reason, wall_time=wall,
                      steps=steps, rhs_calls=calls, states=x, extra=extra)
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from beltcalc.errors import SimulationError
 from beltcalc.sim.propagate import augmented_matrix
-from beltcalc.sim.switching import slack_times
+from beltcalc.sim.switching import slack_times, switched_log
 
 if TYPE_CHECKING:
     from beltcalc.sim.methods import SolverConfig
@@ -106,35 +106,56 @@ def _system(network: Network, taut, t_mid: float, budget: list[int]):
 class Switches:
     """The strand mode, its switches and the event budget of one run."""
 
-    def __init__(self, network: Network, z0: np.ndarray, cfg: SolverConfig, method: str, h: float):
+    def __init__(self, network: Network, z0: np.ndarray, cfg: SolverConfig, method: str, h: float,
+                 t_mid: float = 0.0):
         self.network, self.cfg, self.method = network, cfg, method
         delta, force = network.strand_rows()
         d, f = delta @ z0, force @ z0
         # at rest a strand without pretension sits on the surface; it is taut if it stretches
-        self.taut = tuple(bool(a > 0 and b > 0) for a, b in zip(d, f))
-        F = augmented_matrix(network, self.taut)
-        self.taut = tuple(network.taut_after(k, z0, F @ z0, ahead(F, z0, h), h) for k in range(len(d)))
+        self.taut = network.full_pattern(tuple(bool(a > 0 and b > 0) for a, b in zip(d, f)))
+        F = augmented_matrix(network, self.taut, t_mid)
+        self.taut = network.full_pattern(tuple(network.taut_after(k, z0, F @ z0, ahead(F, z0, h), h)
+                                               for k in range(len(d))))
+        self.taut = network.decide_switched(z0, self.taut, t_mid, h)
         self.start = self.taut
         self.log: list[tuple[float, int, bool]] = []
         self.located = 0
 
-    def switch(self, strand: int, t: float, z: np.ndarray, F: np.ndarray, h: float) -> None:
-        """Decide strand ``strand``'s mode just after ``t`` and record a change."""
+    def switch(self, strand: int, t: float, z: np.ndarray, F: np.ndarray, h: float, t_mid: float = 0.0) -> None:
+        """Decide strand ``strand``'s mode (or a switched element's, numbered after the
+        strands) just after ``t`` and record a change."""
         self.located += 1
+        net, ns = self.network, len(self.network.strands)
         if self.located > self.cfg.max_events:
-            name = self.network.strands[strand].name
+            what = f"strand {net.strands[strand].name}" if strand < ns else net.switched[strand - ns].name
             raise SimulationError(
-                f"method {self.method}: {self.cfg.max_events} strand events by t = {t:.6g} s (strand {name} "
-                "chatters near zero tension); add pretension or damping, or raise `max_events`")
-        on = self.network.taut_after(strand, z, F @ z, ahead(F, z, h), h)
+                f"method {self.method}: {self.cfg.max_events} {'strand events' if strand < ns else 'switches'} by t = {t:.6g} s ({what} "
+                "switches that often); add pretension or damping, or raise `max_events`")
+        if strand >= ns:
+            self.restart(t, z, h, t_mid, fired=strand - ns)
+            return
+        on = net.taut_after(strand, z, F @ z, ahead(F, z, h), h)
         if on != self.taut[strand]:
             self.taut = tuple(on if k == strand else v for k, v in enumerate(self.taut))
             self.log.append((t, strand, on))
+        if net.switched:
+            self.restart(t, z, h, t_mid)
+
+    def restart(self, t: float, z: np.ndarray, h: float, t_mid: float, fired: int | None = None) -> None:
+        """Decide the switched elements just after ``t`` (a switch, or a new time piece)."""
+        new = self.network.decide_switched(z, self.taut, t_mid, h, fired)
+        for k, (a, b) in enumerate(zip(self.taut, new)):
+            if a != b:
+                self.log.append((t, k, b))
+        self.taut = new
 
     def info(self, t_end: float) -> dict:
-        """Switch count and each strand's time slack [s]."""
-        return {"events": len(self.log), "located": self.located,
+        """Switch count and each strand's time slack [s] (and the switched elements' history)."""
+        info = {"events": len(self.log), "located": self.located,
                 "slack_time": slack_times(self.network, self.start, self.log, t_end)}
+        if self.network.switched:
+            info["switched"] = switched_log(self.network, self.start, self.log)
+        return info
 
 
 def ahead(F: np.ndarray, z: np.ndarray, h: float) -> np.ndarray:
@@ -176,7 +197,8 @@ def ivp(name: str, uses_jac: bool):
         starts = network.segment_starts(t_end)
         ends = starts[1:] + [math.inf]
         x = np.asarray(x0, dtype=float)
-        sw = Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower(), t[1] - t[0])
+        sw = Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower(), t[1] - t[0],
+                      network.piece_time(0, starts, t_end))
         out = np.empty((m, N))
         out[:, 0] = x
         k, t_cur, skip = 0, 0.0, ()
@@ -188,7 +210,7 @@ def ivp(name: str, uses_jac: bool):
             rhs, jac = _system(network, sw.taut, mid, budget)
             events = []
             gen = generators(network)
-            switching = network.events(sw.taut)
+            switching = network.events(sw.taut) + network.switched_events(sw.taut, mid)
             for j, ev in enumerate(switching):
                 def fn(tt, xx, row=ev.row, start=t_cur, again=j in skip, sign=ev.direction):
                     value = row[:m] @ xx + row[m:] @ gen(tt)
@@ -223,17 +245,27 @@ def ivp(name: str, uses_jac: bool):
                 z = np.concatenate([x, network.generators(t_e)])
                 ev = switching[j]
                 before = sw.taut
-                sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0])
+                sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0], mid)
                 skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())
                 t_cur = t_e
             else:
                 t_cur, x, skip = t_stop, sol.y[:, -1], ()
+                if network.switched and t_cur < t_end:     # the inputs change piece: re-decide
+                    seg = network.segment(t_cur + eps, starts)
+                    sw.restart(t_cur, np.concatenate([x, network.generators(t_cur)]), t[1] - t[0],
+                               network.piece_time(seg, starts, t_end))
         return out, steps[0], stats["nfev"], {"jacobians": stats["njev"], "lu": stats["nlu"], **sw.info(t_end)}
     return run
 
 
 def odeint_run(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
     from scipy.integrate import odeint    # here, not at the top: the exact path needs none of it
+
+    if network.switched:
+        from beltcalc.errors import InputError
+        names = ", ".join(el.name for el in network.switched)
+        raise InputError(f"method odeint integrates the raw right-hand side, which cannot hold {names} stuck or "
+                         "saturated; use `method` exact, radau or bdf (restarted at each switch)", param="method")
 
     budget = new_budget(cfg, t[-1])
     starts = network.segment_starts(t[-1])

@@ -227,7 +227,7 @@ class SpeedLoopKind(MotorType):
 
     @classmethod
     def build(cls, b, e: Entry, node: str) -> None:
-        from beltcalc.sim.elements import SpeedLoop
+        from beltcalc.sim.elements.switched import SpeedLoop
 
         ref = b.get(e, "reference")
         if ref is None:

@@ -21,6 +21,8 @@ The hooks an element may define (all optional, see :class:`Element`):
 - ``nonlinear_kind``, ``nonlinear(net, t, X, out, constrained)``, ``jacobian(net, x, jac)``:
   what the linear form cannot take (loads locked to a shaft angle), which sends the run to
   an implicit solver with this analytic Jacobian;
+- ``switched`` and the hooks of :class:`beltcalc.sim.elements.switched.Switched`: modes of
+  its own (friction that sticks, a drive's torque limit), switched by the core;
 - ``outputs(net, t, X, accel)``: ``{signal: (array, SI unit)}`` from the states ``X`` and the
   coordinates' accelerations ``accel`` (rows ``n:2n`` of x', nothing else of it);
   ``outputs_of(net, elements, t, X, accel)`` (a classmethod) gives those of several elements
@@ -61,6 +63,8 @@ class Element:
     acts on), and gives every hook a do-nothing default."""
 
     UNITS: ClassVar[dict[str, str | None]] = {}
+    #: True for a kind with modes of its own (:mod:`beltcalc.sim.elements.switched`)
+    switched: ClassVar[bool] = False
     #: where the kind stamps among the others: the network sums the matrices and inputs kind by
     #: kind in this order (couplings, speed loops, loads, prescribed motions, motors, then any
     #: other kind), the elements of one kind as listed
@@ -461,46 +465,6 @@ class Prescribed(Element):
         free = net.derivative(t, X, constrained=False)
         unit = "N" if net.node(self.node).translation else "N m"
         return {f"T_drive_{self.node}": (net.mass[c] * (accel[c] - free[net.n + c]) / f, unit)}
-
-
-@dataclass(frozen=True)
-class SpeedLoop(Element):
-    """A drive on ``node`` with feed-forward and a proportional speed loop:
-    ``T = feedforward(t) + gain (reference(t) - omega)``, both tables piecewise linear
-    (t [s], N m) and (t [s], rad/s); gain [N m s/rad]. Output ``T_drive_<node>``."""
-
-    node: str
-    gain: float
-    reference: Points
-    feedforward: Points = ()
-
-    UNITS: ClassVar[dict] = {"gain": None}
-    ORDER: ClassVar[int] = 20
-
-    def check(self, net) -> None:
-        net.check_ends("a speed loop", self.node, None)
-        net.require_inertia(self.node, "a speed loop")
-        require_range(f"{self.node} speed-loop gain", self.gain, "N*m*s/rad", low=0.0)
-        check_points(self.reference, f"speed reference of node {self.node}")
-        check_points(self.feedforward, f"feed-forward of node {self.node}")
-
-    def matrices(self, net) -> list:
-        return [(net.node_row(self.node), 0.0, self.gain)]     # -gain omega: a damper to the frame
-
-    def tables(self) -> list[Points]:
-        return [t for t in (self.reference, self.feedforward) if t]
-
-    def inputs(self, p) -> None:
-        a, c = piece(self.feedforward, p.t_mid)
-        ra, rc = piece(self.reference, p.t_mid)
-        p.torque(self.node, a + self.gain * ra, c + self.gain * rc)
-
-    def outputs(self, net, t, X, accel) -> dict:
-        c, f = net.coord(self.node)
-        ff = piecewise(self.feedforward, t) if self.feedforward else 0.0
-        torque = ff + self.gain * (piecewise(self.reference, t) - f * X[net.n + c])
-        unit = "N" if net.node(self.node).translation else "N m"
-        return {f"T_drive_{self.node}": (np.broadcast_to(torque, np.shape(t)), unit)}
 
 
 @dataclass(frozen=True)

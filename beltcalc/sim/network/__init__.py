@@ -44,10 +44,11 @@ References:
 """
 
 
-from beltcalc.sim.elements import (Coupling, Gear, Inertia, InductionMotor, Load, Prescribed, SpeedLoop, Strand,
-                                   check_points, piecewise)
+from beltcalc.sim.elements import (Coupling, Gear, Inertia, InductionMotor, Load, Prescribed, Strand, check_points,
+                                   piecewise)
+from beltcalc.sim.elements.switched import Friction, SpeedLoop
 from beltcalc.sim.network.assembly import Event, Piece, series_stiffness
 from beltcalc.sim.network.model import Network
 
-__all__ = ["Coupling", "Event", "Gear", "Inertia", "InductionMotor", "Load", "Network", "Piece", "Prescribed",
+__all__ = ["Coupling", "Event", "Friction", "Gear", "Inertia", "InductionMotor", "Load", "Network", "Piece", "Prescribed",
            "SpeedLoop", "Strand", "check_points", "piecewise", "series_stiffness"]

@@ -74,6 +74,15 @@ class Piece:
         if c:
             self.B[n + k, self.ramp] += f * c * self.Minv[k]
 
+    def generalized(self, g: np.ndarray, a: float, c: float = 0.0) -> None:
+        """A generalised force ``(a + c t) g`` on the coordinates (g a row over them: the
+        torque ``a + c t`` acting on the deflection ``g . q``, e.g. a friction torque)."""
+        n = self.net.n
+        k = np.flatnonzero(g)
+        self.B[n + k, 0] += g[k] * a * self.Minv[k]
+        if c:
+            self.B[n + k, self.ramp] += g[k] * c * self.Minv[k]
+
     def sine(self, node: str, omega: float, s: float, c: float) -> None:
         """A torque ``s sin(omega t) + c cos(omega t)`` [N m] on ``node``."""
         k, f = self.net.coord(node)
@@ -124,7 +133,7 @@ def require_finite_elements(elements) -> None:
             continue
         for f in dataclasses.fields(el):
             v = getattr(el, f.name)
-            if isinstance(v, float) and not math.isfinite(v):
+            if isinstance(v, float) and not math.isfinite(v) and not (v == math.inf == f.default):  # inf: "none"
                 kind = type(el).__name__.lower()
                 name = getattr(el, "name", "") or f"on {getattr(el, 'node', '')}"
                 unit = getattr(el, "UNITS", {}).get(f.name) or "in SI units"

@@ -15,13 +15,15 @@ import numpy as np
 
 from beltcalc.errors import InputError, did_you_mean, require_positive
 from beltcalc.sim.elements import (Coupling, Element, Gear, Inertia, InductionMotor, Load, Points, Prescribed,
-                                   SpeedLoop, Strand, piece)
+                                   Strand, piece)
+from beltcalc.sim.elements.switched import SpeedLoop
 from beltcalc.sim.network.assembly import Piece, add_outer, require_finite, require_finite_elements
 from beltcalc.sim.network.coordinates import check_condensation, coordinates
 from beltcalc.sim.network.strands import StrandModes
+from beltcalc.sim.network.switched import SwitchedModes
 
 
-class Network(StrandModes):
+class Network(StrandModes, SwitchedModes):
     """Nodes and elements, assembled into the matrices of the first-order system.
 
     ``nodes``: the :class:`Inertia` of every node; ``elements``: one list of every other
@@ -58,6 +60,8 @@ class Network(StrandModes):
         self.strands = [el for el in given if isinstance(el, Strand)]
         # every element that stamps itself, kind by kind (stable: as given within a kind)
         self.elements = sorted((el for el in given if not isinstance(el, (Gear, Strand))), key=lambda el: el.ORDER)
+        #: the elements with modes of their own (friction, torque limits): the mode's tail
+        self.switched = [el for el in self.elements if el.switched]
         names = [n.name for n in self.nodes]
         if len(set(names)) != len(names):
             raise InputError(f"node names repeat: {names}", param="network")
@@ -112,7 +116,8 @@ class Network(StrandModes):
         self._cache: dict = {}
         self._rows = None
         self._stamps = None
-        self.taut = tuple(True for _ in self.strands)
+        self._joints: dict = {}
+        self.taut = self.full_pattern(tuple(True for _ in self.strands))
         self.K, self.D = self.stiffness_damping(self.taut)
 
     # --- the stamping elements by kind -------------------------------------------------------
@@ -318,7 +323,7 @@ class Network(StrandModes):
         """(A, B) of x' = A x + B g on the time piece that holds ``t_mid``, with the strands
         that are ``taut`` (default: all). ``constrained`` False leaves the prescribed nodes
         free (for their drive torque). The last 64 (strand mode, time piece) pairs are cached."""
-        taut = self.taut if taut is None else tuple(taut)
+        taut = self.taut if taut is None else self.full_pattern(taut)
         pieces = tuple(self._pieces(t_mid))
         key = (taut, pieces, constrained)
         hit = self._cache.get(key)
@@ -354,6 +359,9 @@ class Network(StrandModes):
                     B[n + k, 0] += -g[k] * s.preload * Minv[k]
         for el in self.elements:
             el.inputs(p)
+        ns = len(self.strands)
+        for el, state in zip(self.switched, taut[ns:]):
+            el.stamp(p, state)
         if constrained:
             for k, pr in self.fixed.items():  # imposed motion: omega' = accel(t) / factor, an input
                 f = self.coord(pr.node)[1]
@@ -364,6 +372,15 @@ class Network(StrandModes):
                     B[n + k, 0] = a / f
                     if c:
                         B[n + k, p.ramp] = c / f
+        if self.switched:
+            joints = self.impose_joints(A, B, taut, constrained, t_mid)
+            if constrained:
+                self._joints[(taut, tuple(self._pieces(t_mid)))] = joints
+                if len(self._joints) > 256:
+                    self._joints.pop(next(iter(self._joints)))
+            AB = np.hstack([A, B])
+            for el, state in zip(self.switched, taut[ns:]):
+                el.settle(p, state, AB)
         require_finite(A, B, net=self)
         return A, B
 
@@ -389,6 +406,15 @@ class Network(StrandModes):
         X = x[:, None] if single else x
         T = np.broadcast_to(np.asarray(t, dtype=float), (X.shape[1],))
         G = self.generators(t if np.shape(t) == T.shape else T)
+        if self.switched:
+            # each sample in its own mode (the run's where seeded): a few modes per run
+            out = np.empty_like(X)
+            for pattern, t_mid, cols in self.sample_groups(t, X, np.vstack([X, G])):
+                A, B = self.first_order(pattern, t_mid, constrained)
+                out[:, cols] = A @ X[:, cols] + B @ G[:, cols]
+            if not self.linear:
+                out += self.nonlinear_terms(T, X, constrained)
+            return out[:, 0] if single else out
         out = self._linear_part(T, X, G, constrained)
         if self.strands:
             self._add_strands(out, X, G, constrained)

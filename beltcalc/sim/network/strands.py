@@ -79,7 +79,7 @@ class StrandModes:
         while it is still elongated."""
         delta, force = self.strand_rows()
         out = []
-        for k, on in enumerate(taut):
+        for k, on in enumerate(taut[:len(self.strands)]):
             if on:
                 out += [Event(k, "force", -1, force[k]), Event(k, "delta", -1, delta[k])]
             else:

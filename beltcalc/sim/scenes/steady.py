@@ -154,8 +154,13 @@ def exact_steady_state(net, outputs: Sequence[str], window: float | None = None,
     drive's with every strand taut, where the caller has them.
     """
     from beltcalc.sim import frequency as fr
-    from beltcalc.sim.elements import SpeedLoop
+    from beltcalc.sim.elements.switched import SpeedLoop
 
+    if net.switched:
+        names = ", ".join(el.name for el in net.switched)
+        return None, f"the drive has elements with modes of their own ({names}): its steady state depends on them"
+    if any(s.ki for s in net.speed_loops):
+        return None, "a speed loop integrates its error: its steady torque is the load's, not a function of the speed"
     if not net.linear:
         why = "; ".join(sorted({getattr(el, "nonlinear_reason", "loads locked to a shaft angle")
                                 for el in net.elements if el.nonlinear_kind}))

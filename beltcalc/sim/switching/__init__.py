@@ -64,7 +64,7 @@ test that changes one sets it on its own module (``beltcalc.sim.switching.run.SP
 
 from beltcalc.sim.switching.firing import EPS, ROUND, first_fire, may_fire, stays_down
 from beltcalc.sim.switching.mode import NEAR_GROUP, DenseMode, Mode
-from beltcalc.sim.switching.outputs import rigid_modes, slack_times
+from beltcalc.sim.switching.outputs import rigid_modes, slack_times, switched_history, switched_log
 from beltcalc.sim.switching.parts import SparseParts
 from beltcalc.sim.switching.run import SPARSE_SIZE, Run, piecewise_exact
 from beltcalc.sim.switching.sparse import SparseMode
@@ -72,4 +72,4 @@ from beltcalc.sim.switching.steps import RHO, TERMS, THETA, power_radius, step_l
 
 __all__ = ["DenseMode", "EPS", "Mode", "NEAR_GROUP", "RHO", "ROUND", "Run", "SPARSE_SIZE", "SparseMode",
            "SparseParts", "TERMS", "THETA", "first_fire", "may_fire", "piecewise_exact", "power_radius",
-           "rigid_modes", "slack_times", "stays_down", "step_length", "terms_for"]
+           "rigid_modes", "slack_times", "stays_down", "step_length", "switched_history", "switched_log", "terms_for"]

@@ -112,7 +112,7 @@ class DenseMode(Mode):
         self._coeff_rows = 0
         self._T = None
         self._B2 = None
-        self.events = network.events(taut)
+        self.events = network.events(taut) + network.switched_events(taut, t_mid)
         self.dirs = np.array([e.direction for e in self.events], dtype=float)
         self.event_strand = np.array([e.strand for e in self.events], dtype=np.int64)
         self.n_events = len(self.events)

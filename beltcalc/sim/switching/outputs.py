@@ -79,7 +79,7 @@ class Outputs:
                 I += I_base[k]
             cols = slice(self.next_out, stop)          # the samples written: idx, as a slice
             self.integrals[:, cols] = (I * self.S[None, :]).T[:self.m]
-            on = np.asarray(mode.taut, dtype=float)
+            on = np.asarray(mode.taut[:len(self.network.strands)], dtype=float)
             forces = self.strand_ops[1] @ (I - self.I_piece).T
             self.force_integrals[:, cols] = self.F_run[:, None] + on[:, None] * forces
         else:
@@ -216,3 +216,24 @@ def slack_times(network, start: tuple[bool, ...], log: list[tuple[float, int, bo
         slack[s.name] = total
     return slack
 
+
+
+def switched_log(network, start: tuple, log: list[tuple[float, int, object]]) -> dict:
+    """The switched elements' history from a run's first mode and its switches (t, index in
+    the mode, state after): ``{"start": their first states, "log": [(t, element, state)]}``
+    (element: its index among ``network.switched``)."""
+    ns = len(network.strands)
+    return {"start": tuple(int(s) for s in start[ns:]),
+            "log": [(t, k - ns, int(state)) for t, k, state in log if k >= ns]}
+
+
+def switched_history(t: np.ndarray, history: dict) -> np.ndarray:
+    """(switched elements, samples): each element's state at each sample time, from
+    :func:`switched_log` (a sample at a switch's time takes the state after it)."""
+    start = history["start"]
+    out = np.empty((len(start), np.size(t)), dtype=np.int64)
+    for j, s in enumerate(start):
+        times = np.array([when for when, k, _ in history["log"] if k == j], dtype=float)
+        states = np.array([s] + [state for _, k, state in history["log"] if k == j], dtype=np.int64)
+        out[j] = states[np.searchsorted(times, np.asarray(t, dtype=float), side="right")]
+    return out

@@ -24,7 +24,7 @@ from beltcalc.numerics.balance import balance
 from beltcalc.sim.propagate import augmented_matrix, orbit
 from beltcalc.sim.switching.firing import EPS, ROUND, first_crossing, may_cross
 from beltcalc.sim.switching.mode import DenseMode, Mode
-from beltcalc.sim.switching.outputs import Outputs, StepIntegrals, rigid_modes, slack_times
+from beltcalc.sim.switching.outputs import Outputs, StepIntegrals, rigid_modes, slack_times, switched_log
 from beltcalc.sim.switching.parts import SparseParts
 from beltcalc.sim.switching.sparse import SparseMode
 from beltcalc.sim.switching.steps import power_radius
@@ -89,14 +89,14 @@ class Run(Outputs):
         self.t_end = t_end
         self.starts = network.segment_starts(t_end)
         self.ends = self.starts[1:] + [t_end]
-        all_taut = tuple(True for _ in network.strands)
+        all_taut = network.full_pattern(tuple(True for _ in network.strands))
         F0 = augmented_matrix(network, all_taut, network.piece_time(0, self.starts, t_end))
         self.S = self._scaling(F0)
         n = network.size
         parts = None
         if sparse is None:
             sparse = F0.shape[0] >= SPARSE_SIZE
-        self.sparse = bool(sparse and network.strands)
+        self.sparse = bool(sparse and network.strands and not network.switched)
         # a dense run of many strand patterns stops (DenseTooCostly) once its modes cost more
         # than the sparse path would (each dense mode: expm, its integral, its Taylor terms)
         self.dense_limit = DENSE_WORK / F0.shape[0] ** 3 if (give_up_dense and not self.sparse and network.strands
@@ -160,7 +160,7 @@ class Run(Outputs):
         self.I_run = np.zeros_like(z)
         if watch is not None:
             watch.bind(self)
-        self.start_taut = self.decide(z, all_taut, 0, list(range(len(network.strands))))
+        self.start_taut = self.decide(z, all_taut, 0, list(range(len(network.strands))), start=True)
         self.z0 = z
 
     def _scaling(self, F0: np.ndarray) -> np.ndarray:
@@ -190,7 +190,8 @@ class Run(Outputs):
         return S
 
     # --- decisions ----------------------------------------------------------------------------
-    def decide(self, z: np.ndarray, taut: tuple[bool, ...], seg: int, strands) -> tuple[bool, ...]:
+    def decide(self, z: np.ndarray, taut: tuple, seg: int, strands, fired: int | None = None,
+               start: bool = False) -> tuple:
         """The pattern just after a restart at z. A strand in ``strands`` off its surfaces is
         taut if its elongation and force are both positive. A strand on a surface is taut if
         both leave zero upwards in the taut mode (the other strands as decided); repeated
@@ -200,10 +201,21 @@ class Run(Outputs):
         solution: ``ROUND`` times the sum of the magnitudes of its Taylor terms over one
         bottom step (``|rows| sum_j |V_j|``). A located switch sits there: its value is a root of
         the step's polynomial, so what is left of it (e.g. ``delta = -3e-20 m`` at a take-up
-        without pretension) is rounding, and its sign says nothing; the rate decides."""
-        if not len(self.network.strands):
-            return taut
-        t_mid = self.network.piece_time(seg, self.starts, self.t_end)
+        without pretension) is rounding, and its sign says nothing; the rate decides.
+
+        Then the elements with modes of their own (friction, torque limits): ``fired`` (its
+        index among them) switched, or any on a surface, are decided with the strands'
+        pattern as it is (:meth:`beltcalc.sim.network.Network.decide_switched`)."""
+        net = self.network
+        t_mid = net.piece_time(seg, self.starts, self.t_end)
+        if net.strands:
+            taut = self._decide_strands(z, taut, seg, strands, t_mid)
+        if net.switched:
+            h = self.cache.get(taut, seg, t_mid).L
+            taut = net.decide_switched(z * self.S, taut, t_mid, h, fired)
+        return taut
+
+    def _decide_strands(self, z: np.ndarray, taut: tuple, seg: int, strands, t_mid: float) -> tuple:
         here = self.cache.get(taut, seg, t_mid)
         V = here.taylor(z)
         terms = {taut: V}                    # z's Taylor terms per pattern tried
@@ -412,7 +424,7 @@ class Run(Outputs):
             self.piece_ends.append(t_new)
             if self.integrate:
                 done = self.strand_ops[1] @ (self.I_run - self.I_piece)
-                self.F_run = self.F_run + np.asarray(mode.taut, dtype=float) * done
+                self.F_run = self.F_run + np.asarray(mode.taut[:len(net.strands)], dtype=float) * done
             if e is None:
                 t_cur, seg = t_stop, seg + 1
                 if seg < len(self.starts):           # the inputs change piece: re-decide strands on a surface
@@ -421,12 +433,13 @@ class Run(Outputs):
                     taut = new
                 continue
             self.located += 1
+            k, ns = int(mode.event_strand[e]), len(net.strands)
             if self.located > self.max_events:
-                name = net.strands[mode.event_strand[e]].name
+                what = f"strand {net.strands[k].name}" if k < ns else net.switched[k - ns].name
                 raise SimulationError(
-                    f"method {self.method}: {self.max_events} strand events by t = {t_new:.6g} s (strand {name} "
+                    f"method {self.method}: {self.max_events} {'strand events' if k < ns else 'switches'} by t = {t_new:.6g} s ({what} "
                     "switches that often); add pretension or damping, or raise `max_events`")
-            new = self.decide(z, taut, seg, [int(mode.event_strand[e])])
+            new = self.decide(z, taut, seg, [k] if k < ns else [], fired=k - ns if k >= ns else None)
             self._log(t_new, taut, new)
             taut, t_cur = new, t_new
         mode = self.cache.get(taut, len(self.starts) - 1, net.piece_time(len(self.starts) - 1, self.starts, self.t_end))
@@ -445,10 +458,15 @@ class Run(Outputs):
 
     def info(self) -> dict:
         """Switches, each strand's time slack [s], and the work done."""
-        slack = slack_times(self.network, self.start_taut, self.switches, self.t_end)
-        names = [s.name for s in self.network.strands]
-        return {"events": len(self.switches), "located": self.located, "slack_time": slack,
-                "switches": [(t, names[k], on) for t, k, on in self.switches], "modes": self.cache.built}
+        net = self.network
+        ns = len(net.strands)
+        slack = slack_times(net, self.start_taut, self.switches, self.t_end)
+        names = [s.name for s in net.strands]
+        info = {"events": len(self.switches), "located": self.located, "slack_time": slack,
+                "switches": [(t, names[k], on) for t, k, on in self.switches if k < ns], "modes": self.cache.built}
+        if net.switched:
+            info["switched"] = switched_log(net, self.start_taut, self.switches)
+        return info
 
 
 def piecewise_exact(network, t: np.ndarray, x0: np.ndarray, max_events: int, scale: float = 1.0, watch=None):

@@ -21,7 +21,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from beltcalc.errors import InputError
-from beltcalc.sim.elements import Prescribed, SpeedLoop, piece
+from beltcalc.sim.elements import Prescribed, piece
+from beltcalc.sim.elements.switched import SpeedLoop
 from beltcalc.numerics.expm import expm
 from beltcalc.sim.propagate import augment, orbit
 from beltcalc.sim.watch.polish import seen_rise, zoom_max
@@ -95,6 +96,8 @@ def drive_torque_row(net: Network, node: str, t_mid: float) -> np.ndarray:
     a, k = piece(el.feedforward, t_mid)
     ra, rk = piece(el.reference, t_mid)
     row[size] = a + el.gain * ra
+    if el.ki:
+        row[net.state_index[id(el)]] = el.ki
     if k or rk:
         row[size + 1] = k + el.gain * rk      # the generator t (tables make the network ramp)
     return row

@@ -1,0 +1,278 @@
+"""What the elements with modes of their own add to a network
+(:mod:`beltcalc.sim.elements.switched`: friction that sticks, a drive's torque limit): a
+mode's joints, the conditions that hold in it, the switches they make, and the choice of the
+next mode at a switch. :class:`~beltcalc.sim.network.Network` has them as methods
+(:class:`SwitchedModes`); the switching core and the scipy methods call them. SI floats.
+
+**A mode** is the strands' pattern followed by every switched element's state (an int): the
+tuple ``pattern = (taut_1, ..., taut_s, state_1, ..., state_w)``.
+
+**A stuck joint keeps its degree of freedom** and is held by its constraint torque (a
+Lagrange multiplier), not by merging its two nodes: every mode then has the same state
+vector, so a switch needs no mapping of the state, the propagators of every mode act on the
+same ``z``, and the constraint torque, which the conditions and the reports need, is a row
+over ``z``. With the joints' rows ``G`` over the coordinates and the accelerations ``a`` of
+the mode without them (a row block of ``[A | B]``), ``M q'' = f - G^T lambda`` and
+``G q'' = 0`` give
+
+    lambda = (G M_f^-1 G^T)^-1 G a,     q'' = a - M_f^-1 G^T lambda
+
+(``M_f^-1``: the inverse masses, 0 on a prescribed coordinate, whose motion is imposed): the
+Gauss principle of least constraint for a linear constraint on the speeds [U96]. Both are
+linear in z, so the stuck mode is linear and propagated exactly like the others, its
+relative speed held at its entry value (zero to rounding) by construction.
+
+**The next mode** at a switch (or where the inputs change piece) is the one in which every
+element's conditions hold just after it: each condition's value, and on its surface its
+first Taylor coefficient beyond rounding in that mode, must be >= 0 (:meth:`decide_switched`).
+The elements on a surface are tried together, their current states first, then their
+preferred order (stuck before slipping), and the first mode that holds is kept; a clutch
+that would chatter between slipping forward and back is stuck instead, since stuck is the
+sliding motion that holds (Filippov [F88 sec. 2.4]).
+
+References:
+
+[U96] F. E. Udwadia, R. E. Kalaba, Analytical Dynamics: A New Approach, Cambridge University
+    Press (1996): the constrained accelerations of a linear constraint on the speeds, from
+    Gauss's principle [U96 ch. 2].
+[F88] A. F. Filippov, Differential Equations with Discontinuous Righthand Sides, Kluwer
+    (1988): the motion on a discontinuity surface.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from beltcalc.errors import SimulationError
+from beltcalc.sim.network.assembly import Event
+
+ROUND = 1024 * np.finfo(float).eps   # the switching core's rounding level (beltcalc.sim.switching.firing.ROUND)
+TERMS = 8            # Taylor terms of a decision's leaving test
+MAX_TRIALS = 4096    # modes tried at one decision
+
+
+class Context:
+    """What an element's conditions read of one mode: rows over ``z = [x, g]``."""
+
+    def __init__(self, net, t_mid: float, AB: np.ndarray, joints: dict):
+        self.net, self.t_mid, self.AB, self.joints = net, t_mid, AB, joints
+        self.width = AB.shape[1]
+
+    def speed_row(self, g: np.ndarray) -> np.ndarray:
+        """g . q' (g over the coordinates)."""
+        row = np.zeros(self.width)
+        row[self.net.n:2 * self.net.n] = g
+        return row
+
+    def time_row(self, a: float, c: float) -> np.ndarray:
+        """a + c t (the generators 1 and t)."""
+        row = np.zeros(self.width)
+        row[self.net.size] = a
+        if c:
+            row[self.net.size + 1] = c
+        return row
+
+    def acc_row(self, k: int) -> np.ndarray:
+        """Coordinate k's acceleration in this mode."""
+        return self.AB[self.net.n + k].copy()
+
+    def joint_torque(self, el) -> np.ndarray:
+        """The constraint torque of a stuck element (its lambda)."""
+        return self.joints[id(el)].copy()
+
+
+class SwitchedModes:
+    """The switched elements' methods of :class:`~beltcalc.sim.network.Network`: they read its
+    ``switched`` elements, ``strands``, ``mass``, ``fixed``, ``n``, ``size`` and its
+    ``first_order`` cache."""
+
+    def full_pattern(self, pattern) -> tuple:
+        """A strand pattern completed with the switched elements' default states (what the
+        frequency domain takes), or a whole mode as it is."""
+        pattern = tuple(pattern)
+        ns = len(self.strands)
+        if len(pattern) >= ns + len(self.switched):
+            return pattern
+        return pattern[:ns] + tuple(el.default for el in self.switched)[len(pattern) - ns:]
+
+    def impose_joints(self, A: np.ndarray, B: np.ndarray, pattern, constrained: bool, t_mid: float) -> dict:
+        """Hold the stuck joints of ``pattern`` in ``[A | B]`` (in place): the accelerations'
+        rows less ``M_f^-1 G^T lambda``. Returns {id(element): its lambda row over z}. The
+        unconstrained system (a prescribed node left free, for its drive torque) takes the
+        constrained system's lambdas and lets them act on every coordinate."""
+        ns, n = len(self.strands), self.n
+        stuck = [(el, el.joint(self, st)) for el, st in zip(self.switched, pattern[ns:])]
+        stuck = [(el, g) for el, g in stuck if g is not None]
+        if not stuck:
+            return {}
+        G = np.array([g for _, g in stuck])
+        m = A.shape[0]
+        if not constrained:
+            joints = self.joint_rows(pattern, t_mid)
+            lam = np.array([joints[id(el)] for el, _ in stuck])
+            inv = 1.0 / self.mass
+        else:
+            inv = 1.0 / self.mass
+            inv[list(self.fixed)] = 0.0
+            acc = np.hstack([A[n:2 * n], B[n:2 * n]])
+            W = G @ (inv[:, None] * G.T)
+            rhs = G @ acc
+            try:
+                lam = np.linalg.solve(W, rhs)
+            except np.linalg.LinAlgError:
+                lam = np.linalg.lstsq(W, rhs, rcond=None)[0]    # joints in a loop: the least-norm share
+        push = (inv[:, None] * G.T) @ lam
+        A[n:2 * n] -= push[:, :m]
+        B[n:2 * n] -= push[:, m:]
+        return {id(el): lam[k] for k, (el, _) in enumerate(stuck)}
+
+    def joint_rows(self, pattern, t_mid: float) -> dict:
+        """{id(element): lambda row over z} of the stuck joints of ``pattern``."""
+        if not self.switched:
+            return {}
+        pattern = self.full_pattern(pattern)
+        key = (pattern, tuple(self._pieces(t_mid)))
+        if key not in self._joints:
+            self._build(pattern, t_mid, True)        # it keeps them
+        return self._joints[key]
+
+    def conditions(self, pattern, t_mid: float) -> list[list[tuple[np.ndarray, bool]]]:
+        """Per switched element, its conditions (row over z, is a switch) in ``pattern``."""
+        if not self.switched:
+            return []
+        pattern = self.full_pattern(pattern)
+        key = ("conditions", pattern, tuple(self._pieces(t_mid)))
+        hit = self._cache.get(key)
+        if hit is None:
+            A, B = self.first_order(pattern, t_mid)
+            ctx = Context(self, t_mid, np.hstack([A, B]), self.joint_rows(pattern, t_mid))
+            ns = len(self.strands)
+            hit = self._cache[key] = [el.conditions(ctx, st) for el, st in zip(self.switched, pattern[ns:])]
+        return hit
+
+    def switched_events(self, pattern, t_mid: float) -> list[Event]:
+        """The switches of a mode: every condition that is one, falling through zero."""
+        ns = len(self.strands)
+        return [Event(ns + j, "condition", -1, row)
+                for j, conds in enumerate(self.conditions(pattern, t_mid)) for row, event in conds if event]
+
+    def decide_switched(self, z: np.ndarray, pattern, t_mid: float, h: float, fired: int | None = None) -> tuple:
+        """The switched elements' states just after a restart at ``z`` (over [x, g]) in the
+        strand pattern of ``pattern``: the current states where every condition is off its
+        surface, else the first mode tried whose conditions hold (see the module). ``h``: a
+        step of the mode (the Taylor terms' scale); ``fired``: the element whose condition
+        fired (it is decided in any case)."""
+        pattern = self.full_pattern(pattern)
+        if not self.switched:
+            return pattern
+        ns = len(self.strands)
+        current = list(pattern[ns:])
+        options = [el.candidates(t_mid) for el in self.switched]
+        conds = self.conditions(pattern, t_mid)
+        mag = self._magnitudes(pattern, t_mid, z, h)
+        open_ = []
+        for j in range(len(self.switched)):
+            if j == fired or current[j] not in options[j] or any(
+                    row @ z <= ROUND * (np.abs(row) @ mag) + 1e-300 for row, _ in conds[j]):
+                open_.append(j)
+        if not open_:
+            return pattern
+        tries = [[current[j]] + [s for s in options[j] if s != current[j]] if current[j] in options[j]
+                 else list(options[j]) for j in open_]
+        for count, combo in enumerate(itertools.product(*tries)):
+            if count >= MAX_TRIALS:
+                break
+            trial = list(pattern)
+            for j, s in zip(open_, combo):
+                trial[ns + j] = s
+            trial = tuple(trial)
+            if self._holds(z, trial, t_mid, h):
+                return trial
+        names = ", ".join(self.switched[j].name for j in open_)
+        raise SimulationError(f"no mode of {names} holds just after this switch (tried {min(count + 1, MAX_TRIALS)}); "
+                              "the friction or limit values may contradict each other")
+
+    def _terms(self, pattern, t_mid: float, z: np.ndarray, h: float) -> np.ndarray:
+        """z's Taylor terms (F h)^j z / j! in ``pattern``, j < TERMS."""
+        A, B = self.first_order(pattern, t_mid)
+        m = A.shape[0]
+        F = np.zeros((z.size, z.size))
+        F[:m, :m], F[:m, m:] = A, B
+        F[m:, m:] = self.generator_matrix()
+        V = np.empty((TERMS, z.size))
+        V[0] = z
+        for j in range(1, TERMS):
+            V[j] = (F @ V[j - 1]) * (h / j)
+        return V
+
+    def _magnitudes(self, pattern, t_mid, z, h) -> np.ndarray:
+        return np.abs(self._terms(pattern, t_mid, z, h)).sum(axis=0)
+
+    def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float) -> bool:
+        """Whether every switched element's conditions hold just after z in ``pattern``."""
+        V = self._terms(pattern, t_mid, z, h)
+        mag = np.abs(V).sum(axis=0)
+        for conds in self.conditions(pattern, t_mid):
+            for row, _ in conds:
+                value = row @ z
+                tol = ROUND * (np.abs(row) @ mag) + 1e-300
+                if value < -tol:
+                    return False
+                if value <= tol:
+                    c = V[1:] @ row
+                    level = ROUND * (np.abs(V[1:]) @ np.abs(row)) + 1e-300
+                    big = np.flatnonzero(np.abs(c) > level)
+                    if big.size and c[big[0]] < 0:
+                        return False
+        return True
+
+    # --- per sample (outputs) ---------------------------------------------------------------
+    def seed_switched(self, t: np.ndarray | None, states: np.ndarray | None) -> None:
+        """Let :meth:`switched_states` answer for the array ``t`` (the same object) with the
+        run's states (switched elements, samples); None forgets."""
+        if t is None or states is None:
+            self.__dict__.pop("_seeded_switched", None)
+        else:
+            self._seeded_switched = (t, states)
+
+    def switched_states(self, el, t, X) -> np.ndarray:
+        """Element ``el``'s state at each sample: the run's where seeded, else what the state
+        suggests (:meth:`beltcalc.sim.elements.switched.Switched.state_of`)."""
+        seeded = self.__dict__.get("_seeded_switched")
+        if seeded is not None and t is seeded[0]:
+            return seeded[1][next(j for j, e in enumerate(self.switched) if e is el)]
+        return el.state_of(self, t, X)
+
+    def sample_groups(self, t, X, Z) -> list[tuple[tuple, np.ndarray]]:
+        """The samples grouped by mode: [(pattern, columns)], strands by their own state."""
+        T = np.broadcast_to(np.asarray(t, dtype=float), (X.shape[1],))
+        taut = self._taut_rows(Z) if self.strands else np.zeros((0, X.shape[1]), dtype=bool)
+        states = np.array([self.switched_states(el, t, X) for el in self.switched]).reshape(len(self.switched), -1)
+        states = np.broadcast_to(states, (len(self.switched), X.shape[1]))
+        starts = self.segment_starts(float(T.max()) if T.size else 0.0)
+        seg = np.searchsorted(starts, T, side="right") - 1
+        keys = np.vstack([taut.astype(np.int64), states, seg[None]])
+        out = []
+        order = np.lexsort(keys[::-1]) if keys.shape[1] else np.zeros(0, dtype=np.int64)
+        bounds = np.flatnonzero(np.any(np.diff(keys[:, order], axis=1) != 0, axis=0)) + 1
+        for cols in np.split(order, bounds):
+            if cols.size:
+                k = keys[:, cols[0]]
+                pattern = tuple(bool(v) for v in k[:len(self.strands)]) + tuple(int(v) for v in
+                                                                                k[len(self.strands):-1])
+                out.append((pattern, self.piece_time(int(k[-1]), starts, float(T.max())), cols))
+        return out
+
+    def joint_torques(self, el, t, X) -> np.ndarray:
+        """Element ``el``'s constraint torque at each sample where it is stuck (else 0)."""
+        Xa = np.asarray(X, dtype=float)
+        T = np.broadcast_to(np.asarray(t, dtype=float), (Xa.shape[1],))
+        Z = np.vstack([Xa, self.generators(t if np.shape(t) == T.shape else T)])
+        out = np.zeros(Xa.shape[1])
+        for pattern, t_mid, cols in self.sample_groups(t, Xa, Z):
+            row = self.joint_rows(pattern, t_mid).get(id(el))
+            if row is not None:
+                out[cols] = row @ Z[:, cols]
+        return out

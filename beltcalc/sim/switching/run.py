@@ -116,10 +116,13 @@ class Run(Outputs):
         self.cache = ModeCache(network, self.S, omega, rho, scale, parts)
         self.m = n
         self.out = np.empty((n, t.size))
-        # free rigid rotations: the angles are re-based as the run goes (see rigid_modes)
-        pieces = [augmented_matrix(network, all_taut, network.piece_time(k, self.starts, t_end))
-                  for k in range(1, len(self.starts))]
-        self.rigid, self.rigid_root = rigid_modes([F0] + pieces, network.n)
+        # free rigid rotations: the angles are re-based as the run goes (see rigid_modes); with
+        # every switched element in its state 0 (free: no joint, whose projection would hide the
+        # angles its constraint torque depends on)
+        loose = network.full_pattern(all_taut)[:len(network.strands)] + (0,) * len(network.switched)
+        pieces = [augmented_matrix(network, loose, network.piece_time(k, self.starts, t_end))
+                  for k in range(len(self.starts))]
+        self.rigid, self.rigid_root = rigid_modes(pieces, network.n)
         self.rigid_speed = network.n + self.rigid_root
         self.rigid_z = self.rigid / self.S[None, :] if self.rigid.size else self.rigid
         self.theta = np.zeros(self.rigid.shape[0])              # the rotation taken out so far

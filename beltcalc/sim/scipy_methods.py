@@ -116,7 +116,7 @@ class Switches:
         F = augmented_matrix(network, self.taut, t_mid)
         self.taut = network.full_pattern(tuple(network.taut_after(k, z0, F @ z0, ahead(F, z0, h), h)
                                                for k in range(len(d))))
-        self.taut = network.decide_switched(z0, self.taut, t_mid, h)
+        self.taut, self.z = network.decide_switched(z0, self.taut, t_mid, h)
         self.start = self.taut
         self.log: list[tuple[float, int, bool]] = []
         self.located = 0
@@ -143,7 +143,7 @@ class Switches:
 
     def restart(self, t: float, z: np.ndarray, h: float, t_mid: float, fired: int | None = None) -> None:
         """Decide the switched elements just after ``t`` (a switch, or a new time piece)."""
-        new = self.network.decide_switched(z, self.taut, t_mid, h, fired)
+        new, self.z = self.network.decide_switched(z, self.taut, t_mid, h, fired)
         for k, (a, b) in enumerate(zip(self.taut, new)):
             if a != b:
                 self.log.append((t, k, b))
@@ -199,6 +199,8 @@ def ivp(name: str, uses_jac: bool):
         x = np.asarray(x0, dtype=float)
         sw = Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower(), t[1] - t[0],
                       network.piece_time(0, starts, t_end))
+        if network.switched:
+            x = sw.z[:m]                 # the stuck joints' speeds settled
         out = np.empty((m, N))
         out[:, 0] = x
         k, t_cur, skip = 0, 0.0, ()
@@ -246,6 +248,8 @@ def ivp(name: str, uses_jac: bool):
                 ev = switching[j]
                 before = sw.taut
                 sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0], mid)
+                if network.switched:
+                    x = sw.z[:m]
                 skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())
                 t_cur = t_e
             else:
@@ -254,6 +258,7 @@ def ivp(name: str, uses_jac: bool):
                     seg = network.segment(t_cur + eps, starts)
                     sw.restart(t_cur, np.concatenate([x, network.generators(t_cur)]), t[1] - t[0],
                                network.piece_time(seg, starts, t_end))
+                    x = sw.z[:m]
         return out, steps[0], stats["nfev"], {"jacobians": stats["njev"], "lu": stats["nlu"], **sw.info(t_end)}
     return run
 

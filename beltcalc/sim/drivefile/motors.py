@@ -215,13 +215,18 @@ class PrescribedKind(MotorType):
 
 
 class SpeedLoopKind(MotorType):
-    """Feed-forward and a proportional speed loop: :class:`~beltcalc.sim.elements.SpeedLoop`."""
+    """Feed-forward and a PI speed loop with a torque limit:
+    :class:`~beltcalc.sim.elements.switched.SpeedLoop`."""
 
     kind = "speed_loop"
     keys = {
         "gain": Quantity("N*m*s/rad|N*s/m", help="proportional gain", low=">=0"),
         "reference": Table(columns=(Quantity("s"), Quantity("rad/s|m/s")), help="speed reference [[t, speed], ...]"),
         "feedforward": Table(columns=(Quantity("s"), Quantity(TORQUE)), help="feed-forward torque [[t, torque], ...]"),
+        "ki": Quantity("N*m/rad|N/m", help="integral gain (torque per integrated speed error) [default: 0, P only]",
+                       low=">=0"),
+        "torque_limit": Quantity(TORQUE, help="the drive's torque (current) limit; the integrator is held while "
+                                              "it saturates [default: none]", low=">0"),
     }
     need = ("gain", "reference")
 
@@ -232,7 +237,8 @@ class SpeedLoopKind(MotorType):
         ref = b.get(e, "reference")
         if ref is None:
             b.fail(e, "reference", "a speed loop needs its speed reference table")
-        b.add(SpeedLoop(node, b.need(e, "gain"), ref, b.get(e, "feedforward", ())))
+        b.add(SpeedLoop(node, b.need(e, "gain"), ref, b.get(e, "feedforward", ()), b.get(e, "ki", 0.0),
+                        b.get(e, "torque_limit", math.inf)))
         b.motor_signals.append((f"T_drive_{node}", node))
 
 

@@ -10,7 +10,7 @@ their pitch radii and add to their inertias), then each section's entries as the
 them.
 
 >>> SECTIONS
-('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load', 'damper')
+('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load', 'damper', 'clutch', 'brake', 'friction')
 >>> KINDS
 ('induction', 'prescribed', 'speed_loop', 'torque')
 """
@@ -21,6 +21,7 @@ from beltcalc.data.schema import Field
 from beltcalc.sim.drivefile.kinds import (BeltSpanKind, ChainStrandKind, CouplingKind, DamperKind, GearKind, Head, Kind,
                                           LoadKind, NodeKind, ShaftKind)
 from beltcalc.sim.drivefile.motors import MotorKind
+from beltcalc.sim.drivefile.switched import BrakeKind, ClutchKind, FrictionKind
 
 #: section -> the kind of its entries, in the order a drive is built
 ELEMENTS: dict[str, type[Kind]] = {kind.section: kind for kind in (
@@ -33,6 +34,9 @@ ELEMENTS: dict[str, type[Kind]] = {kind.section: kind for kind in (
     MotorKind,
     LoadKind,
     DamperKind,
+    ClutchKind,
+    BrakeKind,
+    FrictionKind,
 )}
 
 # Views of the registry for readers of the format (the reader and the builder ask ELEMENTS

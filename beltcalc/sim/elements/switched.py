@@ -26,8 +26,8 @@ References:
     (1988): the motion on a discontinuity surface (sliding), the convex combination of the
     two sides that keeps the state on it.
 [AM08] K. J. Astrom, R. M. Murray, Feedback Systems, Princeton University Press (2008): the
-    PI controller and integrator windup, anti-windup by holding the integrator [AM08 sec.
-    10.4].
+    PI controller and integrator windup, anti-windup by holding the integrator
+    [AM08 sec. 10.4].
 """
 
 from __future__ import annotations

@@ -118,6 +118,7 @@ class Network(StrandModes, SwitchedModes):
         self._stamps = None
         self._joints: dict = {}
         self.taut = self.full_pattern(tuple(True for _ in self.strands))
+        self.check_parallel_joints()
         self.K, self.D = self.stiffness_damping(self.taut)
 
     # --- the stamping elements by kind -------------------------------------------------------

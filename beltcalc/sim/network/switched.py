@@ -45,12 +45,13 @@ import itertools
 
 import numpy as np
 
-from beltcalc.errors import SimulationError
+from beltcalc.errors import InputError, SimulationError
 from beltcalc.sim.network.assembly import Event
 
 ROUND = 1024 * np.finfo(float).eps   # the switching core's rounding level (beltcalc.sim.switching.firing.ROUND)
 TERMS = 8            # Taylor terms of a decision's leaving test
 MAX_TRIALS = 4096    # modes tried at one decision
+DRIFT = 1e-9         # a stuck joint's relative speed below this of the largest speed is drift (settled)
 
 
 class Context:
@@ -97,6 +98,19 @@ class SwitchedModes:
             return pattern
         return pattern[:ns] + tuple(el.default for el in self.switched)[len(pattern) - ns:]
 
+    def check_parallel_joints(self) -> None:
+        """Refuse two elements that can stick on the same motion (a brake and a bearing's
+        friction on one drum): their torques' split while both hold is not determined by the
+        motion, so neither is which one breaks loose first. One element with the summed
+        torques is the same drive."""
+        rows = [(el, el.row(self)) for el in self.switched if hasattr(el, "row")]
+        for a, (el, g) in enumerate(rows):
+            for other, h in rows[a + 1:]:
+                if abs(abs(g @ h) - np.linalg.norm(g) * np.linalg.norm(h)) <= 1e-12 * np.linalg.norm(g) * np.linalg.norm(h):
+                    raise InputError(f"{el.name} and {other.name} both hold the same motion: give one element with "
+                                     "their torques summed (e.g. the brake's torque plus the bearing's)",
+                                     param="network")
+
     def impose_joints(self, A: np.ndarray, B: np.ndarray, pattern, constrained: bool, t_mid: float) -> dict:
         """Hold the stuck joints of ``pattern`` in ``[A | B]`` (in place): the accelerations'
         rows less ``M_f^-1 G^T lambda``. Returns {id(element): its lambda row over z}. The
@@ -119,10 +133,9 @@ class SwitchedModes:
             acc = np.hstack([A[n:2 * n], B[n:2 * n]])
             W = G @ (inv[:, None] * G.T)
             rhs = G @ acc
-            try:
-                lam = np.linalg.solve(W, rhs)
-            except np.linalg.LinAlgError:
-                lam = np.linalg.lstsq(W, rhs, rcond=None)[0]    # joints in a loop: the least-norm share
+            # joints that hold the same motion twice (a brake and a bearing on one stopped
+            # drum, joints in a loop) share their torque: the least-norm lambdas
+            lam = np.linalg.solve(W, rhs) if W.shape[0] == 1 else np.linalg.lstsq(W, rhs, rcond=1e-10)[0]
         push = (inv[:, None] * G.T) @ lam
         A[n:2 * n] -= push[:, :m]
         B[n:2 * n] -= push[:, m:]
@@ -158,27 +171,51 @@ class SwitchedModes:
         return [Event(ns + j, "condition", -1, row)
                 for j, conds in enumerate(self.conditions(pattern, t_mid)) for row, event in conds if event]
 
-    def decide_switched(self, z: np.ndarray, pattern, t_mid: float, h: float, fired: int | None = None) -> tuple:
-        """The switched elements' states just after a restart at ``z`` (over [x, g]) in the
-        strand pattern of ``pattern``: the current states where every condition is off its
-        surface, else the first mode tried whose conditions hold (see the module). ``h``: a
-        step of the mode (the Taylor terms' scale); ``fired``: the element whose condition
-        fired (it is decided in any case)."""
+    def settle_joints(self, z: np.ndarray, pattern) -> np.ndarray:
+        """z with the relative speed of every stuck joint of ``pattern`` exactly zero: the
+        speeds' least change in kinetic energy that does it (momentum kept), removing the
+        rounding a long stretch of sticking leaves (1e-12 of the speeds)."""
+        ns, n = len(self.strands), self.n
+        G = [el.joint(self, st) for el, st in zip(self.switched, pattern[ns:])]
+        # only joints whose relative speed is drift (a mode taken as a first guess, e.g. at the
+        # start, may call a clutch stuck that slips at 100 rad/s: that is for decide to judge)
+        top = float(np.max(np.abs(z[n:2 * n]))) if n else 0.0
+        G = np.array([g for g in G if g is not None and abs(g @ z[n:2 * n]) <= DRIFT * top * np.abs(g).sum()])
+        if not G.size:
+            return z
+        inv = 1.0 / self.mass
+        inv[list(self.fixed)] = 0.0
+        W = G @ (inv[:, None] * G.T)
+        drift = G @ z[n:2 * n]
+        share = np.linalg.solve(W, drift) if W.shape[0] == 1 else np.linalg.lstsq(W, drift, rcond=1e-10)[0]
+        z = z.copy()
+        z[n:2 * n] -= inv * (G.T @ share)
+        return z
+
+    def decide_switched(self, z: np.ndarray, pattern, t_mid: float, h: float,
+                        fired: int | None = None) -> tuple[tuple, np.ndarray]:
+        """(mode, z): the switched elements' states just after a restart at ``z`` (over
+        [x, g]) in the strand pattern of ``pattern`` (the current states where every condition
+        is off its surface, else the first mode tried whose conditions hold: see the module),
+        and z with its stuck joints settled (:meth:`settle_joints`). ``h``: a step of the mode
+        (the Taylor terms' scale); ``fired``: the element whose condition fired (decided in
+        any case)."""
         pattern = self.full_pattern(pattern)
         if not self.switched:
-            return pattern
+            return pattern, z
+        z = self.settle_joints(z, pattern)
         ns = len(self.strands)
         current = list(pattern[ns:])
         options = [el.candidates(t_mid) for el in self.switched]
         conds = self.conditions(pattern, t_mid)
-        mag = self._magnitudes(pattern, t_mid, z, h)
+        mag = self._levels(z, self._magnitudes(pattern, t_mid, z, h))
         open_ = []
         for j in range(len(self.switched)):
             if j == fired or current[j] not in options[j] or any(
                     row @ z <= ROUND * (np.abs(row) @ mag) + 1e-300 for row, _ in conds[j]):
                 open_.append(j)
         if not open_:
-            return pattern
+            return pattern, z
         tries = [[current[j]] + [s for s in options[j] if s != current[j]] if current[j] in options[j]
                  else list(options[j]) for j in open_]
         for count, combo in enumerate(itertools.product(*tries)):
@@ -189,13 +226,16 @@ class SwitchedModes:
                 trial[ns + j] = s
             trial = tuple(trial)
             if self._holds(z, trial, t_mid, h):
-                return trial
+                return trial, self.settle_joints(z, trial)
         names = ", ".join(self.switched[j].name for j in open_)
         raise SimulationError(f"no mode of {names} holds just after this switch (tried {min(count + 1, MAX_TRIALS)}); "
                               "the friction or limit values may contradict each other")
 
-    def _terms(self, pattern, t_mid: float, z: np.ndarray, h: float) -> np.ndarray:
-        """z's Taylor terms (F h)^j z / j! in ``pattern``, j < TERMS."""
+    def _terms(self, pattern, t_mid: float, z: np.ndarray, h: float, bound: bool = False):
+        """z's Taylor terms (F h)^j z / j! in ``pattern``, j < TERMS; with ``bound`` also the
+        same series of magnitudes, (|F| h)^j |z| / j!, that bounds each term's rounding (a
+        stuck mode's rows are differences of large terms: their rates' rounding is that of
+        the terms, not of the small result)."""
         A, B = self.first_order(pattern, t_mid)
         m = A.shape[0]
         F = np.zeros((z.size, z.size))
@@ -205,24 +245,40 @@ class SwitchedModes:
         V[0] = z
         for j in range(1, TERMS):
             V[j] = (F @ V[j - 1]) * (h / j)
-        return V
+        if not bound:
+            return V
+        U, aF = np.empty_like(V), np.abs(F)
+        U[0] = np.abs(z)
+        for j in range(1, TERMS):
+            U[j] = (aF @ U[j - 1]) * (h / j)
+        return V, U
+
+    def _levels(self, z: np.ndarray, mag: np.ndarray) -> np.ndarray:
+        """The magnitudes a condition's rounding is judged by: its terms' (``mag``), and every
+        speed at least the largest speed's (settling a stuck joint moves the speeds by the
+        rounding of the largest, a node just come to rest included)."""
+        n = self.n
+        out = mag.copy()
+        if n:
+            np.maximum(out[n:2 * n], np.max(np.abs(z[n:2 * n])), out=out[n:2 * n])
+        return out
 
     def _magnitudes(self, pattern, t_mid, z, h) -> np.ndarray:
         return np.abs(self._terms(pattern, t_mid, z, h)).sum(axis=0)
 
     def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float) -> bool:
         """Whether every switched element's conditions hold just after z in ``pattern``."""
-        V = self._terms(pattern, t_mid, z, h)
-        mag = np.abs(V).sum(axis=0)
+        V, U = self._terms(pattern, t_mid, z, h, bound=True)
+        mag = self._levels(z, np.abs(V).sum(axis=0))
         for conds in self.conditions(pattern, t_mid):
-            for row, _ in conds:
+            for row, event in conds:
                 value = row @ z
                 tol = ROUND * (np.abs(row) @ mag) + 1e-300
                 if value < -tol:
                     return False
-                if value <= tol:
+                if value <= tol and event:          # (a row that is no switch: its value alone)
                     c = V[1:] @ row
-                    level = ROUND * (np.abs(V[1:]) @ np.abs(row)) + 1e-300
+                    level = ROUND * (U[1:] @ np.abs(row)) + 1e-300
                     big = np.flatnonzero(np.abs(c) > level)
                     if big.size and c[big[0]] < 0:
                         return False

@@ -90,7 +90,10 @@ class Run(Outputs):
         self.starts = network.segment_starts(t_end)
         self.ends = self.starts[1:] + [t_end]
         all_taut = network.full_pattern(tuple(True for _ in network.strands))
-        F0 = augmented_matrix(network, all_taut, network.piece_time(0, self.starts, t_end))
+        # every switched element in its state 0 (free, no joint): a held node's row and column
+        # vanish, and balancing would scale it by 1e-11 (its motion in other modes then huge)
+        loose = all_taut[:len(network.strands)] + (0,) * len(network.switched)
+        F0 = augmented_matrix(network, loose, network.piece_time(0, self.starts, t_end))
         self.S = self._scaling(F0)
         n = network.size
         parts = None
@@ -109,7 +112,11 @@ class Run(Outputs):
             # the fastest oscillation (stiff ladders) and the spectral radius (the step) of
             # the all-taut matrix: a slack strand takes a spring and a damper away
             # (the generators' block is autonomous: its eigenvalues are the inputs' own)
+            # (with switched elements, of the loose and the default mode: a joint can raise both)
             lam = np.linalg.eigvals(F0[:n, :n]) if n else np.zeros(0)
+            if network.switched and n:
+                Fd = augmented_matrix(network, all_taut, network.piece_time(0, self.starts, t_end))
+                lam = np.concatenate([lam, np.linalg.eigvals(Fd[:n, :n])])
             omega = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
             lam = np.concatenate([lam, np.linalg.eigvals(F0[n:, n:])]) if F0.shape[0] > n else lam
             rho = float(np.max(np.abs(lam))) if lam.size else 0.0
@@ -119,7 +126,6 @@ class Run(Outputs):
         # free rigid rotations: the angles are re-based as the run goes (see rigid_modes); with
         # every switched element in its state 0 (free: no joint, whose projection would hide the
         # angles its constraint torque depends on)
-        loose = network.full_pattern(all_taut)[:len(network.strands)] + (0,) * len(network.switched)
         pieces = [augmented_matrix(network, loose, network.piece_time(k, self.starts, t_end))
                   for k in range(len(self.starts))]
         self.rigid, self.rigid_root = rigid_modes(pieces, network.n)
@@ -163,8 +169,9 @@ class Run(Outputs):
         self.I_run = np.zeros_like(z)
         if watch is not None:
             watch.bind(self)
+        self.settled = z
         self.start_taut = self.decide(z, all_taut, 0, list(range(len(network.strands))), start=True)
-        self.z0 = z
+        self.z0 = self.settled if network.switched else z
 
     def _scaling(self, F0: np.ndarray) -> np.ndarray:
         """S balancing the all-taut matrix, with the constant input's column scaled down (a
@@ -215,7 +222,8 @@ class Run(Outputs):
             taut = self._decide_strands(z, taut, seg, strands, t_mid)
         if net.switched:
             h = self.cache.get(taut, seg, t_mid).L
-            taut = net.decide_switched(z * self.S, taut, t_mid, h, fired)
+            taut, settled = net.decide_switched(z * self.S, taut, t_mid, h, fired)
+            self.settled = settled / self.S
         return taut
 
     def _decide_strands(self, z: np.ndarray, taut: tuple, seg: int, strands, t_mid: float) -> tuple:
@@ -434,6 +442,8 @@ class Run(Outputs):
                     new = self.decide(z, taut, seg, [])
                     self._log(t_cur, taut, new)
                     taut = new
+                    if net.switched:
+                        z = self.settled
                 continue
             self.located += 1
             k, ns = int(mode.event_strand[e]), len(net.strands)
@@ -445,6 +455,8 @@ class Run(Outputs):
             new = self.decide(z, taut, seg, [k] if k < ns else [], fired=k - ns if k >= ns else None)
             self._log(t_new, taut, new)
             taut, t_cur = new, t_new
+            if net.switched:
+                z = self.settled
         mode = self.cache.get(taut, len(self.starts) - 1, net.piece_time(len(self.starts) - 1, self.starts, self.t_end))
         self.I_piece = self.I_run
         self.emit(mode, z[None], np.array([self.t_end]), self.t_end, inclusive=True,

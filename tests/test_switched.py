@@ -189,3 +189,46 @@ def test_a_freewheel_carries_torque_one_way_only():
     assert_allclose(r.signals["omega_fly"][after], w_end, rtol=1e-12)
     assert_allclose(r.signals["T_fw"][after], 0.0, atol=1e-12)
     assert np.all(r.signals["T_fw"] >= -1e-12)
+
+
+# --- through the command a user types ----------------------------------------------------------------
+def _cli(*args):
+    import json
+
+    from click.testing import CliRunner
+
+    from beltcalc.cli.main import cli
+
+    res = CliRunner().invoke(cli, ["simulate", "drive", *args])
+    return res, (json.loads(res.stdout) if res.exit_code == 0 and "--json" in args else None)
+
+
+def test_a_clutch_in_a_drive_file_engages_a_flywheel_to_the_closed_form():
+    """``[[clutch]]`` mu F_n r z = 0.3 x 500 N x 0.08 m x 2 = 24 N m, its force ramped on over
+    0.05 s from 0.1 s, onto a 0.2 kg m^2 flywheel from a line at 100 rad/s: the flywheel
+    gains 3 rad/s over the ramp, then 120 rad/s^2 until it sticks at 0.1 + 0.05 + 97 / 120 s;
+    the line's drive torque is the clutch's."""
+    from pathlib import Path
+
+    path = str(Path(__file__).parent / "data" / "clutch_flywheel.toml")
+    res, out = _cli(path, "--json")
+    assert res.exit_code == 0, res.output
+    assert out["couplings"]["cl"]["torque_max"]["value"] == pytest.approx(24.0, rel=1e-12)
+    assert out["nodes"]["fly"]["speed_max"]["value"] == pytest.approx(100.0, rel=1e-12)
+    assert out["error_relative"]["value"] <= 1e-9
+    # the mean speed of the flywheel over the run, from the closed form of its motion
+    t1, t2, t3 = 0.1, 0.15, 0.15 + 97.0 / 120.0
+    ramp = 24.0 / 0.05 / 0.2 * (t2 - t1) ** 3 / 6          # the ramp's own area: a t^2 / 2 rise
+    mean = (ramp + 3.0 * (t3 - t2) + 0.5 * 120.0 * (t3 - t2) ** 2 + 100.0 * (1.0 - t3)) / 1.0
+    assert out["nodes"]["fly"]["speed_mean"]["value"] == pytest.approx(mean, rel=1e-9)
+
+
+def test_a_clutch_without_its_torque_is_refused_in_one_line(tmp_path):
+    from pathlib import Path
+
+    text = (Path(__file__).parent / "data" / "clutch_flywheel.toml").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("mu = 0.3\n", ""))
+    res, _ = _cli(str(bad))
+    assert res.exit_code in (1, 2)
+    assert "torque" in res.output and len(res.output.strip().splitlines()) == 1

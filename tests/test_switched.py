@@ -40,9 +40,12 @@ def test_clutch_engagement_sticks_at_the_closed_form_time(J1, J2, T, dw):
     common = J1 * dw / (J1 + J2)
     assert_allclose(r.signals["omega_a"][-1], common, rtol=1e-12)
     assert_allclose(r.signals["omega_b"][-1], common, rtol=1e-12)
-    # the relative angle slipped is the area under the linear relative speed: the heat T dphi
+    # the relative angle slipped is the area under the linear relative speed: the heat T dphi,
+    # which is the kinetic energy lost
     slipped = (r.signals["phi_a"] - r.signals["phi_b"])[-1]
     assert T * slipped == pytest.approx(0.5 * J_eff * dw ** 2, rel=1e-12)
+    assert r.extra["switched"]["heat"]["cl"] == pytest.approx(0.5 * J_eff * dw ** 2, rel=1e-12)
+    assert r.extra["switched"]["time"]["cl"]["forward"] == pytest.approx(t_stick, rel=1e-12)
     # the torque: T while slipping, none once stuck (nothing loads the pair)
     assert_allclose(r.signals["T_cl"][r.t < t_stick], T, rtol=1e-15)
     assert_allclose(r.signals["T_cl"][r.t > t_stick], 0.0, atol=1e-12 * T)
@@ -216,6 +219,11 @@ def test_a_clutch_in_a_drive_file_engages_a_flywheel_to_the_closed_form():
     assert out["couplings"]["cl"]["torque_max"]["value"] == pytest.approx(24.0, rel=1e-12)
     assert out["nodes"]["fly"]["speed_max"]["value"] == pytest.approx(100.0, rel=1e-12)
     assert out["error_relative"]["value"] <= 1e-9
+    # the slip heat, read off the exact solution through the ramp: the line's work (100 rad/s x
+    # the flywheel's final momentum 20 N m s) less the flywheel's energy (1000 J)
+    assert out["switched"]["cl"]["heat"]["value"] == pytest.approx(1000.0, rel=1e-12)
+    assert out["switched"]["cl"]["time_free"]["value"] == pytest.approx(0.1, rel=1e-12)
+    assert out["switched"]["cl"]["time_forward"]["value"] == pytest.approx(0.05 + 97.0 / 120.0, rel=1e-12)
     # the mean speed of the flywheel over the run, from the closed form of its motion
     t1, t2, t3 = 0.1, 0.15, 0.15 + 97.0 / 120.0
     ramp = 24.0 / 0.05 / 0.2 * (t2 - t1) ** 3 / 6          # the ramp's own area: a t^2 / 2 rise

@@ -154,7 +154,7 @@ class Switches:
         info = {"events": len(self.log), "located": self.located,
                 "slack_time": slack_times(self.network, self.start, self.log, t_end)}
         if self.network.switched:
-            info["switched"] = switched_log(self.network, self.start, self.log)
+            info["switched"] = switched_log(self.network, self.start, self.log, t_end)
         return info
 
 

@@ -171,6 +171,10 @@ class Friction(Switched):
     def joint(self, net, state: int) -> np.ndarray | None:
         return self.row(net) if state == self.STUCK else None
 
+    def slip_sign(self, state: int) -> int:
+        """+1 slipping forward, -1 backward, 0 otherwise (its torque's sign while slipping)."""
+        return 1 if state == self.FORWARD else -1 if state == self.BACKWARD else 0
+
     def conditions(self, ctx, state: int) -> list[tuple[np.ndarray, bool]]:
         w = ctx.speed_row(self.row(ctx.net))
         if state == self.FORWARD:

@@ -270,10 +270,14 @@ class SwitchedModes:
         """Whether every switched element's conditions hold just after z in ``pattern``."""
         V, U = self._terms(pattern, t_mid, z, h, bound=True)
         mag = self._levels(z, np.abs(V).sum(axis=0))
+        n = self.n
+        top = float(np.max(np.abs(z[n:2 * n]))) if n else 0.0
         for conds in self.conditions(pattern, t_mid):
             for row, event in conds:
                 value = row @ z
                 tol = ROUND * (np.abs(row) @ mag) + 1e-300
+                if not event:      # a stuck joint's zero speed: drift that settling removes is zero
+                    tol = max(tol, DRIFT * top * float(np.abs(row[n:2 * n]).sum()))
                 if value < -tol:
                     return False
                 if value <= tol and event:          # (a row that is no switch: its value alone)

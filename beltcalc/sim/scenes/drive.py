@@ -26,6 +26,7 @@ from beltcalc.report import Row, Section
 from beltcalc.sim.scenes.base import (Outcome, Scene, SteadyRow, check_timing, exact_steady_state,
                                       motor_checks, resonance_check, settling_check, steady_sections, strand_check,
                                       strand_sections, strands_at_end)
+from beltcalc.sim.scenes.outcome import switched_sections
 
 
 class _FileScene:
@@ -235,6 +236,7 @@ def report(drive, result) -> list[Section]:
             group=f"belt spans (two-way), {where}; limit: F_Tadm", item=name))
     out += strand_sections(net, result, drive.limits, "strands, whole run (tension only; slack = no force; "
                            "limit: a belt's F_Tadm, a chain's breaking load)")
+    out += switched_sections(net, result, drive.limits)
     for signal, node in drive.motors:
         s, whole = result.summary(signal, w0), result.summary(signal, 0.0)
         speed = result.summary(_speed(net, node), w0)

@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Iterable, Mapping
 
+import numpy as np
+
 from beltcalc.design.checks import RULES
 from beltcalc.errors import InputError
 from beltcalc.report import Column, Section
@@ -136,6 +138,37 @@ def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group:
         out.append(Section(("strands", strand.name), strand.name, rows, group=group, item=strand.name))
     return out
 
+
+
+def switched_sections(net, result, limits: Mapping[str, tuple[float, str]]) -> list[Section]:
+    """One section per element with modes of its own (a clutch, a brake, a bearing's
+    friction, a drive's torque limit) over the whole run: the time in each of its modes, its
+    switches, a friction element's heat (the slip work, exact on the exact path) and its
+    peak torque against its rating (``limits[name] = (N m, what)``)."""
+    from beltcalc.report import Row
+
+    history = result.extra.get("switched")
+    if not history:
+        return []
+    out = []
+    for el in net.switched:
+        spent = history["time"][el.name]
+        rows = [Row(f"time_{state.replace(' ', '_')}", f"time {state}", float(spent[state]), "s")
+                for state in el.STATES if spent[state] > 0]
+        rows.append(Row("switches", "mode changes", float(history["switches"][el.name]), "1", digits=6))
+        heat = history.get("heat", {}).get(el.name)
+        if heat is not None and hasattr(el, "slip_sign"):
+            rows.append(Row("heat", "slip heat", float(heat), "J"))
+        signal = f"T_{el.name}" if f"T_{el.name}" in result.signals else f"T_drive_{getattr(el, 'node', '')}"
+        if signal in result.signals:
+            peak = float(np.max(np.abs(result.signals[signal])))
+            rows.append(Row("torque_peak", "torque, peak", peak, result.units[signal]))
+            if el.name in limits:
+                limit, what = limits[el.name]
+                rows.append(Row("safety", "rating / peak", limit / max(peak, 1e-300), "1", digits=3, note=what))
+        out.append(Section(("switched", el.name), el.name, rows, group="clutches, brakes, friction and torque "
+                           "limits, whole run", item=el.name))
+    return out
 
 
 @dataclass(frozen=True)

@@ -218,13 +218,25 @@ def slack_times(network, start: tuple[bool, ...], log: list[tuple[float, int, bo
 
 
 
-def switched_log(network, start: tuple, log: list[tuple[float, int, object]]) -> dict:
+def switched_log(network, start: tuple, log: list[tuple[float, int, object]], t_end: float) -> dict:
     """The switched elements' history from a run's first mode and its switches (t, index in
-    the mode, state after): ``{"start": their first states, "log": [(t, element, state)]}``
-    (element: its index among ``network.switched``)."""
+    the mode, state after): ``{"start": their first states, "log": [(t, element, state)],
+    "time": {name: {state name: seconds in it}}, "switches": {name: count}}`` (element: its
+    index among ``network.switched``)."""
     ns = len(network.strands)
-    return {"start": tuple(int(s) for s in start[ns:]),
-            "log": [(t, k - ns, int(state)) for t, k, state in log if k >= ns]}
+    first = tuple(int(s) for s in start[ns:])
+    entries = [(t, k - ns, int(state)) for t, k, state in log if k >= ns]
+    time, count = {}, {}
+    for j, el in enumerate(network.switched):
+        spent = {name: 0.0 for name in el.STATES}
+        state, since, n = first[j], 0.0, 0
+        for t, k, new in entries:
+            if k == j:
+                spent[el.STATES[state]] += t - since
+                state, since, n = new, t, n + 1
+        spent[el.STATES[state]] += t_end - since
+        time[el.name], count[el.name] = spent, n
+    return {"start": first, "log": entries, "time": time, "switches": count}
 
 
 def switched_history(t: np.ndarray, history: dict) -> np.ndarray:

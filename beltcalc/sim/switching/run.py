@@ -129,6 +129,10 @@ class Run(Outputs):
         pieces = [augmented_matrix(network, loose, network.piece_time(k, self.starts, t_end))
                   for k in range(len(self.starts))]
         self.rigid, self.rigid_root = rigid_modes(pieces, network.n)
+        if network.switched:
+            # not re-based: a clutch's slip heat reads the relative angle of two sides that
+            # turn freely (rigidly) in its loose mode; the angles keep their rounding instead
+            self.rigid, self.rigid_root = self.rigid[:0], self.rigid_root[:0]
         self.rigid_speed = network.n + self.rigid_root
         self.rigid_z = self.rigid / self.S[None, :] if self.rigid.size else self.rigid
         self.theta = np.zeros(self.rigid.shape[0])              # the rotation taken out so far
@@ -140,7 +144,8 @@ class Run(Outputs):
         # ulp of t: 1e-12 of the step at 10,001 samples over 1 s), so samples may be read by
         # powers of expm(F~ dt)
         self.uniform = t.size > 2 and bool(np.max(np.abs(np.diff(t) - self.dt)) <= 64 * EPS * max(abs(t[0]), abs(t[-1])))
-        self.integrate = integrate or watch is not None
+        # (a run with friction integrates its states: a slipping clutch's heat needs them)
+        self.integrate = integrate or watch is not None or bool(network.switched)
         self.integrals = np.empty((n, t.size)) if self.integrate else None
         ns = len(network.strands)
         self.force_integrals = np.empty((ns, t.size)) if self.integrate else None   # int of F dt
@@ -430,7 +435,10 @@ class Run(Outputs):
                     f"method {self.method}: the run needs about {need:.3g} internal steps of {mode.L:.3g} s (its "
                     f"stiffest part), more than {MAX_STEPS:,}; a stiffness or a damping many decades above the "
                     "rest? Check the inputs, shorten the run, or make a very stiff coupling rigid")
+            z_from, I_from = z, self.I_run
             t_new, z, e = self.advance(mode, z, t_cur, t_stop)
+            if net.switched:
+                self._heat(taut, seg, t_cur, z_from, I_from, t_new, z, self.I_run)
             z = self.rebase(z, t_new)
             self.piece_ends.append(t_new)
             if self.integrate:
@@ -466,6 +474,28 @@ class Run(Outputs):
             self.watch.finish()
         return self
 
+    def _heat(self, taut, seg, t0, z0, I0, t1, z1, I1) -> None:
+        """Add the work each slipping friction element turned into heat over [t0, t1], exactly:
+        with T = s (a + c t) on the piece and phi = g . q its relative angle,
+        ``int T phi' dt = s [(a + c t) phi] - s c int phi dt`` (the run's integral of the
+        state gives the last term)."""
+        net = self.network
+        t_mid = net.piece_time(seg, self.starts, self.t_end)
+        n, ns = net.n, len(net.strands)
+        if not hasattr(self, "heat"):
+            self.heat = {el.name: 0.0 for el in net.switched}
+        for el, state in zip(net.switched, taut[ns:]):
+            sign = getattr(el, "slip_sign", lambda s: 0)(state)
+            if not sign:
+                continue
+            a, c = el.torque_piece(t_mid)
+            g = el.row(net)
+            phi0, phi1 = g @ (z0[:n] * self.S[:n]), g @ (z1[:n] * self.S[:n])
+            work = (a + c * t1) * phi1 - (a + c * t0) * phi0
+            if c:
+                work -= c * (g @ ((I1 - I0)[:n] * self.S[:n]))
+            self.heat[el.name] += sign * work
+
     def _log(self, t: float, before, after) -> None:
         for k, (a, b) in enumerate(zip(before, after)):
             if a != b:
@@ -480,7 +510,8 @@ class Run(Outputs):
         info = {"events": len(self.switches), "located": self.located, "slack_time": slack,
                 "switches": [(t, names[k], on) for t, k, on in self.switches if k < ns], "modes": self.cache.built}
         if net.switched:
-            info["switched"] = switched_log(net, self.start_taut, self.switches)
+            info["switched"] = switched_log(net, self.start_taut, self.switches, self.t_end)
+            info["switched"]["heat"] = dict(getattr(self, "heat", {el.name: 0.0 for el in net.switched}))
         return info
 
 

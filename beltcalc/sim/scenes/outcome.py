@@ -7,6 +7,7 @@ writes files.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Iterable, Mapping
 
@@ -141,34 +142,46 @@ def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group:
 
 
 def switched_sections(net, result, limits: Mapping[str, tuple[float, str]]) -> list[Section]:
-    """One section per element with modes of its own (a clutch, a brake, a bearing's
-    friction, a drive's torque limit) over the whole run: the time in each of its modes, its
-    switches, a friction element's heat (the slip work, exact on the exact path) and its
-    peak torque against its rating (``limits[name] = (N m, what)``)."""
+    """The elements with modes of their own over the whole run: each friction element's
+    (clutch, brake, bearing) time stuck, slipping and free, its mode changes, its heat (the
+    slip work, exact on the exact path) and peak torque, then its rating over that peak
+    (``limits[name] = (N m, what)``); each limited drive's time in range, at its limit and
+    held there, and its mode changes."""
     from beltcalc.report import Row
 
     history = result.extra.get("switched")
     if not history:
         return []
-    out = []
+    out, rated = [], []
     for el in net.switched:
-        spent = history["time"][el.name]
-        rows = [Row(f"time_{state.replace(' ', '_')}", f"time {state}", float(spent[state]), "s")
-                for state in el.STATES if spent[state] > 0]
-        rows.append(Row("switches", "mode changes", float(history["switches"][el.name]), "1", digits=6))
-        heat = history.get("heat", {}).get(el.name)
-        if heat is not None and hasattr(el, "slip_sign"):
-            rows.append(Row("heat", "slip heat", float(heat), "J"))
-        signal = f"T_{el.name}" if f"T_{el.name}" in result.signals else f"T_drive_{getattr(el, 'node', '')}"
-        if signal in result.signals:
-            peak = float(np.max(np.abs(result.signals[signal])))
-            rows.append(Row("torque_peak", "torque, peak", peak, result.units[signal]))
+        spent, changes = history["time"][el.name], float(history["switches"][el.name])
+        if hasattr(el, "slip_sign"):
+            signal = f"T_{el.name}"
+            peak = float(np.max(np.abs(result.signals[signal]))) if signal in result.signals else 0.0
+            rows = [Row("time_stuck", "time stuck", float(spent["stuck"]), "s"),
+                    Row("time_slipping", "time slipping", float(spent["forward"] + spent["backward"]), "s"),
+                    Row("time_free", "time free", float(spent["free"]), "s"),
+                    Row("switches", "mode changes", changes, "1", digits=6),
+                    Row("heat", "slip heat", float(history.get("heat", {}).get(el.name, math.nan)), "J"),
+                    Row("torque_peak", "torque, peak", peak, result.units.get(signal, "N m"))]
+            out.append(Section(("switched", el.name), el.name, rows, group="clutches, brakes and friction, whole "
+                               "run (slip heat: the work friction turned into heat)", item=el.name))
             if el.name in limits:
                 limit, what = limits[el.name]
-                rows.append(Row("safety", "rating / peak", limit / max(peak, 1e-300), "1", digits=3, note=what))
-        out.append(Section(("switched", el.name), el.name, rows, group="clutches, brakes, friction and torque "
-                           "limits, whole run", item=el.name))
-    return out
+                rated.append(Section(("ratings", el.name), el.name, [
+                    Row("torque_peak", "torque, peak", peak, result.units.get(signal, "N m")),
+                    Row("rating", what, limit, result.units.get(signal, "N m")),
+                    Row("safety", "rating / peak", limit / max(peak, 1e-300), "1", digits=3)],
+                    group="clutch and brake ratings, whole run", item=el.name))
+        else:
+            rows = [Row("time_free", "time in range", float(spent["free"]), "s"),
+                    Row("time_limit", "time at its limit",
+                        float(sum(v for k, v in spent.items() if k in ("high", "low"))), "s"),
+                    Row("time_held", "time held at it", float(sum(v for k, v in spent.items() if "held" in k)), "s"),
+                    Row("switches", "mode changes", changes, "1", digits=6)]
+            out.append(Section(("switched", el.name), el.name, rows, group="drive torque limits, whole run",
+                               item=el.name))
+    return out + rated
 
 
 @dataclass(frozen=True)

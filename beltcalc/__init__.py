@@ -5,7 +5,8 @@ The public API (names load on first use, so ``import beltcalc`` stays cheap):
 - drive trains: :func:`load_drive` (a drive file, or a built-in one by name),
   :func:`simulate`, :class:`SolverConfig`, :class:`SimResult`, and the element classes
   :class:`Network`, :class:`Inertia`, :class:`Coupling`, :class:`Gear`, :class:`Strand`,
-  :class:`Load`, :class:`InductionMotor`, :class:`Prescribed`, :class:`SpeedLoop`;
+  :class:`Load`, :class:`InductionMotor`, :class:`Prescribed`, :class:`SpeedLoop`,
+  :class:`Backlash` (give a network its ``elements()``);
 - design: :func:`design_tension` with :class:`TensionInputs`, :func:`size_axis` with
   :class:`SizingInputs`, :func:`load_catalog`.
 
@@ -32,7 +33,7 @@ _WHERE = {
     "Network": "beltcalc.sim.network", "Inertia": "beltcalc.sim.elements", "Coupling": "beltcalc.sim.elements",
     "Gear": "beltcalc.sim.elements", "Strand": "beltcalc.sim.elements", "Load": "beltcalc.sim.elements",
     "InductionMotor": "beltcalc.sim.elements", "Prescribed": "beltcalc.sim.elements",
-    "SpeedLoop": "beltcalc.sim.elements",
+    "SpeedLoop": "beltcalc.sim.elements", "Backlash": "beltcalc.sim.elements.backlash",
     "design_tension": "beltcalc.design.tension", "TensionInputs": "beltcalc.design.tension",
     "size_axis": "beltcalc.design.sizing", "SizingInputs": "beltcalc.design.axis_inputs",
     "load_catalog": "beltcalc.data.catalogs",

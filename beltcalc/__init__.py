@@ -6,7 +6,8 @@ The public API (names load on first use, so ``import beltcalc`` stays cheap):
   :func:`simulate`, :class:`SolverConfig`, :class:`SimResult`, and the element classes
   :class:`Network`, :class:`Inertia`, :class:`Coupling`, :class:`Gear`, :class:`Strand`,
   :class:`Load`, :class:`InductionMotor`, :class:`Prescribed`, :class:`SpeedLoop` (PI, with a torque limit), :class:`Friction` (a clutch,
-  brake or bearing friction that sticks);
+  brake or bearing friction that sticks),
+  :class:`Backlash` (give a network its ``elements()``);
 - design: :func:`design_tension` with :class:`TensionInputs`, :func:`size_axis` with
   :class:`SizingInputs`, :func:`load_catalog`.
 
@@ -34,6 +35,7 @@ _WHERE = {
     "Gear": "beltcalc.sim.elements", "Strand": "beltcalc.sim.elements", "Load": "beltcalc.sim.elements",
     "InductionMotor": "beltcalc.sim.elements", "Prescribed": "beltcalc.sim.elements",
     "SpeedLoop": "beltcalc.sim.elements.switched", "Friction": "beltcalc.sim.elements.switched",
+    "Backlash": "beltcalc.sim.elements.backlash",
     "design_tension": "beltcalc.design.tension", "TensionInputs": "beltcalc.design.tension",
     "size_axis": "beltcalc.design.sizing", "SizingInputs": "beltcalc.design.axis_inputs",
     "load_catalog": "beltcalc.data.catalogs",

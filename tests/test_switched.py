@@ -223,7 +223,7 @@ def test_a_clutch_in_a_drive_file_engages_a_flywheel_to_the_closed_form():
     # the flywheel's final momentum 20 N m s) less the flywheel's energy (1000 J)
     assert out["switched"]["cl"]["heat"]["value"] == pytest.approx(1000.0, rel=1e-12)
     assert out["switched"]["cl"]["time_free"]["value"] == pytest.approx(0.1, rel=1e-12)
-    assert out["switched"]["cl"]["time_forward"]["value"] == pytest.approx(0.05 + 97.0 / 120.0, rel=1e-12)
+    assert out["switched"]["cl"]["time_slipping"]["value"] == pytest.approx(0.05 + 97.0 / 120.0, rel=1e-12)
     # the mean speed of the flywheel over the run, from the closed form of its motion
     t1, t2, t3 = 0.1, 0.15, 0.15 + 97.0 / 120.0
     ramp = 24.0 / 0.05 / 0.2 * (t2 - t1) ** 3 / 6          # the ramp's own area: a t^2 / 2 rise

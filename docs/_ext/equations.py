@@ -90,6 +90,7 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("Diamond FAQ", "Makers' catalogs and manuals", "Diamond Chain, FAQ (diamondchain.com/faq)"),
     Source("McGuire", "Makers' catalogs and manuals", 'McGuire Bearing Company, "Better chain performance"'),
     Source("HKK", "Makers' catalogs and manuals", 'HKK Chain, engineering information, "Installation"'),
+    Source("MSL", "Model libraries", "Modelica Association, Modelica Standard Library 4.0.0 (2020)"),
     Source("NR3", "Numerical methods",
            "W. H. Press, S. A. Teukolsky, W. T. Vetterling, B. P. Flannery, Numerical Recipes, 3rd ed., "
            "Cambridge University Press (2007)"),

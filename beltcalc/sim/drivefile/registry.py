@@ -10,7 +10,7 @@ their pitch radii and add to their inertias), then each section's entries as the
 them.
 
 >>> SECTIONS
-('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load', 'damper', 'clutch', 'brake', 'friction')
+('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load', 'damper', 'clutch', 'brake', 'friction', 'backlash')
 >>> KINDS
 ('induction', 'prescribed', 'speed_loop', 'torque')
 """
@@ -18,6 +18,7 @@ them.
 from __future__ import annotations
 
 from beltcalc.data.schema import Field
+from beltcalc.sim.drivefile.backlash import BacklashKind
 from beltcalc.sim.drivefile.kinds import (BeltSpanKind, ChainStrandKind, CouplingKind, DamperKind, GearKind, Head, Kind,
                                           LoadKind, NodeKind, ShaftKind)
 from beltcalc.sim.drivefile.motors import MotorKind
@@ -37,6 +38,7 @@ ELEMENTS: dict[str, type[Kind]] = {kind.section: kind for kind in (
     ClutchKind,
     BrakeKind,
     FrictionKind,
+    BacklashKind,
 )}
 
 # Views of the registry for readers of the format (the reader and the builder ask ELEMENTS

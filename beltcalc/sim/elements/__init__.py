@@ -307,6 +307,11 @@ class Strand(Element):
 
     UNITS: ClassVar[dict] = {"r_i": "m", "r_j": "m", "stiffness": "N/m", "damping": "N*s/m", "preload": "N"}
 
+    @property
+    def default_taut(self) -> bool:
+        """Taut in the network's default pattern (its modes and natural frequencies)."""
+        return True
+
     def check(self, net) -> None:
         net.check_ends(self.name, self.i, self.j)
         for end in (self.i, self.j):

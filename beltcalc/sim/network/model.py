@@ -117,7 +117,7 @@ class Network(StrandModes, SwitchedModes):
         self._rows = None
         self._stamps = None
         self._joints: dict = {}
-        self.taut = self.full_pattern(tuple(True for _ in self.strands))
+        self.taut = self.full_pattern(tuple(s.default_taut for s in self.strands))
         self.check_parallel_joints()
         self.K, self.D = self.stiffness_damping(self.taut)
 

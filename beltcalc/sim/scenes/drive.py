@@ -1,19 +1,22 @@
 """A drive file as a scene (``beltcalc simulate drive FILE``): its parameters are the file's
 values (``ELEMENT.KEY``, and ``t_end``/``samples``/``window``), and its report follows the
-file: every node's speed, every coupling's and shaft's torque, every strand's extremes,
-slack time and safety, every motor's torque, over the steady window (strands: the whole
-run). Means and extremes come off the exact solution where the run is exact
-(:mod:`beltcalc.sim.watch`). Where the drive has an exact periodic steady state (linear,
-strands taut in it, constant and sinusoidal inputs after the last input change, before the
-window) the same quantities in it, exactly (``steady_state``); else a note says why. A
-check says whether the start-up transient has decayed by the window's start (the slowest
-pole). SI floats only.
+file: every node's speed, every coupling's and shaft's torque, every backlash's torque and
+contacts, every strand's extremes, slack time and safety, every motor's torque, over the
+steady window (strands, and a backlash's peak and contacts: the whole run). Means and
+extremes come off the exact solution where the run is exact (:mod:`beltcalc.sim.watch`).
+Where the drive has an exact periodic steady state (linear, strands taut in it, constant and
+sinusoidal inputs after the last input change, before the window) the same quantities in
+it, exactly (``steady_state``); else a note says why. A check says whether the start-up
+transient has decayed by the window's start (the slowest pole). SI floats only.
 
 References:
 
 [M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
     Transmission Impact on Rotating Mass Motion Law of Technological Machines" (2016): the
     induction motor's characteristic [M16 eq. 2], which a start from rest without a ramp leaves.
+[MSL] Modelica Association, Modelica Standard Library 4.0.0 (2020),
+    Modelica.Mechanics.Rotational.Components.ElastoBacklash2: the backlash a drive's
+    ``[[backlash]]`` entries report.
 """
 
 from __future__ import annotations
@@ -108,6 +111,7 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
     # motors both (their peak over the run): the estimate judges these figures
     reported = {name: (w0,) for name in watched}
     reported.update({f"F_{s.name}": (0.0,) for s in net.strands})
+    reported.update({f"F_{c.name}": (0.0, w0) for bl in _backlashes(net) for c in bl.contacts()})
     reported.update({s: (0.0, w0) for s, _ in drive.motors})
     result = simulate(net, drive.t_end, drive.samples, cfg, watch=(watched, (0.0, w0), reported))
     checks = strand_check(net, result, drive.limits, None) + damping_fit_check(drive) + resonance_check(net, result, w0)
@@ -158,6 +162,10 @@ def steady_state(drive):
     over its window (:func:`~beltcalc.sim.scenes.base.exact_steady_state`), or ``(None,
     why)``."""
     net = drive.network
+    if _backlashes(net):
+        names = ", ".join(bl.name for bl in _backlashes(net))
+        return None, (f"backlash {names}: the steady state is solved with every contact closed, and the two "
+                      "sides of a dead band cannot both be")
     outputs = [_speed(net, n) for n in drive.nodes] + [s for s, _ in drive.torques]
     outputs += [f"T_{name}" for name in drive.spans] + [f"F_{s.name}" for s in net.strands]
     outputs += [s for s, _ in drive.motors]
@@ -226,6 +234,7 @@ def report(drive, result) -> list[Section]:
                 Row("torque_amplitude", "ampl.", s.amplitude, unit),
                 Row("torque_min", "min", s.min, unit), Row("torque_max", "max", s.max, unit)]
         out.append(Section(("couplings", name), name, rows, group=f"couplings and shafts, {where}", item=name))
+    out += backlash_sections(net, result, w0)
     for name, lever in drive.spans.items():
         s = result.summary(f"T_{name}", w0)
         out.append(Section(("spans", name), name, [
@@ -247,6 +256,52 @@ def report(drive, result) -> list[Section]:
             Row("torque_peak", "torque, peak over the run", max(abs(whole.min), abs(whole.max)), unit),
             Row("speed_mean", "speed, mean", speed.mean, result.units[_speed(net, node)], digits=5),
         ]))
+    return out
+
+
+def _backlashes(net) -> list:
+    """The :class:`~beltcalc.sim.elements.backlash.Backlash` elements of ``net``."""
+    from beltcalc.sim.elements.backlash import Backlash
+
+    return [el for el in net.elements if isinstance(el, Backlash)]
+
+
+def backlash_sections(net, result, window: float) -> list[Section]:
+    """One section per backlash [MSL ElastoBacklash2]: its torque ``T = F+ - F-`` over the
+    window (mean, amplitude, min, max), its peak ``|T|`` over the run, the time each side was
+    in contact and how many contacts each made (a switch to contact after the start; exact
+    runs only, which log their switches).
+
+    Where the run watched the contacts' forces (:func:`beltcalc.sim.core.simulate`'s
+    ``watch``) these come off the exact solution: the two sides never push at once (with b
+    > 0 they are apart; with b = 0 one side's virtual torque is the other's negative), so
+    ``max T`` is the largest + force, or if the + side never closed in the window minus the
+    least - force, ``min T`` likewise, and the mean is the difference of the forces' exact
+    means.
+    """
+    slack = result.extra.get("slack_time", {})
+    switches = result.extra.get("switches")
+    t_end = float(result.t[-1])
+    out = []
+    for bl in _backlashes(net):
+        unit = result.units[f"T_{bl.name}"]
+        plus, minus = (f"{bl.name}{side}" for side in "+-")
+        p, m = result.summary(f"F_{plus}", window), result.summary(f"F_{minus}", window)
+        hi = p.max if p.max > 0 else -m.min
+        lo = -m.max if m.max > 0 else p.min
+        peak = max(result.summary(f"F_{plus}", 0.0).max, result.summary(f"F_{minus}", 0.0).max)
+        rows = [Row("torque_mean", "torque mean" if unit == "N m" else "force mean", p.mean - m.mean, unit),
+                Row("torque_amplitude", "ampl.", 0.5 * (hi - lo), unit),
+                Row("torque_min", "min", lo, unit), Row("torque_max", "max", hi, unit),
+                Row("torque_peak", "peak, run", peak, unit),
+                Row("contact_plus", "+ side closed, run", t_end - float(slack.get(plus, t_end)), "s"),
+                Row("contact_minus", "- side closed, run", t_end - float(slack.get(minus, t_end)), "s")]
+        if switches is not None:
+            for name, key, label in ((plus, "contacts_plus", "+ contacts"), (minus, "contacts_minus", "- contacts")):
+                made = sum(1 for _, strand, on in switches if strand == name and on)
+                rows.append(Row(key, label, float(made), "1", digits=9))
+        out.append(Section(("backlash", bl.name), bl.name, rows, item=bl.name,
+                           group=f"backlash, t >= {window:g} s (peak, time closed and contacts: whole run)"))
     return out
 
 

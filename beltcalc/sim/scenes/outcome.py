@@ -124,12 +124,17 @@ def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group:
                     label: str = "limit / max") -> list[Section]:
     """One row per tension-only strand over the whole run: force min and max (off the exact
     solution where the run kept them), the time it was slack, and its force limit (a
-    chain's breaking load, a belt's F_Tadm: ``limits[name] = (N, what)``) over its peak."""
+    chain's breaking load, a belt's F_Tadm: ``limits[name] = (N, what)``) over its peak.
+    The contacts of a backlash are strands to the core but not here: their backlash reports
+    them (:func:`beltcalc.sim.scenes.drive.backlash_sections`)."""
     from beltcalc.report import Row
+    from beltcalc.sim.elements.backlash import Contact
 
     slack = result.extra.get("slack_time", {})
     out = []
     for strand in net.strands:
+        if isinstance(strand, Contact):      # a backlash's side: reported with its backlash
+            continue
         s = result.summary(f"F_{strand.name}", 0.0)
         rows = [Row("force_min", "force min", s.min, "N"), Row("force_max", "force max", s.max, "N"),
                 Row("slack_time", "time slack", float(slack.get(strand.name, 0.0)), "s")]

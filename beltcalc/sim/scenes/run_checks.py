@@ -99,7 +99,8 @@ def resonance_check(net, result, window: float) -> list:
     Each load with an amplitude excites ``omega / 2 pi`` (a sine in time) or ``order`` times
     its node's mean speed over the steady window over ``2 pi`` (locked to the shaft angle).
     The check is the least relative separation ``|f_e - f_n| / f_n`` over the undamped
-    natural frequencies ``f_n`` of the oscillatory modes (strands taut,
+    natural frequencies ``f_n`` of the oscillatory modes (strands taut, a backlash closed on
+    one side: :func:`beltcalc.sim.elements.backlash.closed_pattern`,
     :func:`beltcalc.sim.frequency.poles`) against the rule ``resonance`` of
     :data:`beltcalc.design.checks.RULES` (an assumed margin of 10 %). No periodic
     load, or no oscillatory mode: no check.
@@ -121,9 +122,10 @@ def resonance_check(net, result, window: float) -> list:
             excitations += el.excitation(result, window)
     if not excitations:
         return []
+    from beltcalc.sim.elements.backlash import closed_pattern
     from beltcalc.sim.frequency import poles
 
-    modes = [p for p in poles(net) if p.kind == "oscillatory"]
+    modes = [p for p in poles(net, closed_pattern(net)) if p.kind == "oscillatory"]
     if not modes:
         return []
     sep, f_e, node, p = min(((abs(f - p.frequency) / p.frequency, f, node, p)

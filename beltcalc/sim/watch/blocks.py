@@ -294,7 +294,7 @@ class Watch:
                 if s0 < nsteps and npts > 1 and times[s0] < start:   # the window starts inside step s0:
                     u[:, 0] = top[side][:, s0] + rise[:, s0]          # its value there is not seen
                 reach = u >= best[:, None]
-                if mode.sparse and side == -1:      # a strand's least force seen at 0 is its least
+                if side == -1:                      # a strand's least force seen at 0 is its least
                     reach[(self.strand >= 0) & (best >= 0.0)] = False     # (finish: it pulls)
                 u = np.where(reach, u, -np.inf)
                 if not np.isfinite(u).any():
@@ -518,7 +518,10 @@ class Watch:
             key = (self.names[k], self.windows[w])
             lo_v, hi_v = self.result.get(key, (np.nan, np.nan))
             self.result[key] = (lo_v, value) if side == 1 else (-value, hi_v)
-            gap = max(0.0, float(self.dropped[side][w, k]) - value)
+            dropped = float(self.dropped[side][w, k])
+            if self.strand[k] >= 0 and side == -1:     # a strand's force is never below 0: no step let
+                dropped = min(dropped, 0.0)            # go can hold a least force below it
+            gap = max(0.0, dropped - value)
             lo_u, hi_u = self.uncertain.get(key, (0.0, 0.0))
             self.uncertain[key] = (lo_u, gap) if side == 1 else (gap, hi_u)
         self._terms = {}

@@ -240,3 +240,38 @@ def test_a_clutch_without_its_torque_is_refused_in_one_line(tmp_path):
     res, _ = _cli(str(bad))
     assert res.exit_code in (1, 2)
     assert "torque" in res.output and len(res.output.strip().splitlines()) == 1
+
+
+def _net_modes(log, count):
+    """Each element's state after every instant of the log (toggles of zero duration, where
+    two conditions meet at one time and the second decision undoes the first, collapsed)."""
+    out, times = [], sorted({round(float(t), 9) for t, _, _ in log})
+    for when in times:
+        state = {j: s for t, j, s in log if round(float(t), 9) <= when}
+        out.append((when, tuple(state.get(j) for j in range(count))))
+    return [(w, s) for k, (w, s) in enumerate(out) if k == 0 or s != out[k - 1][1]]
+
+
+def test_the_built_in_limiter_example_matches_radau_with_events():
+    """The built-in drive ``conveyor_limiter`` (a servo at its torque limit, a torque limiter
+    through a jam, a brake, belt friction that sticks): every mode change and every speed
+    against Radau with events at rtol 1e-6, to Radau's tolerance (rtol 1e-8 does not pass
+    3.5 s in minutes: the jaw's torque is a difference of 458 rad angles, whose rounding
+    Radau's error control chases; the exact run takes under a second)."""
+    from beltcalc.sim.drivefile import load_drive
+
+    net = load_drive("conveyor_limiter").network
+    r = simulate(net, 5.0, 5001, SolverConfig())
+    ref = simulate(net, 5.0, 5001, SolverConfig("radau", 1e-6, 1e-8, estimate_error=False))
+    count = len(net.switched)
+    mine, theirs = _net_modes(_log(r), count), _net_modes(_log(ref), count)
+    assert [s for _, s in mine] == [s for _, s in theirs]
+    assert_allclose([t for t, _ in mine], [t for t, _ in theirs], rtol=0, atol=1e-5)
+    scale = max(np.max(np.abs(r.signals[f"omega_{k}"])) for k in ("rotor", "hub", "drum"))
+    for k in ("rotor", "gear_in", "hub", "drum"):
+        assert_allclose(r.signals[f"omega_{k}"], ref.signals[f"omega_{k}"], rtol=0, atol=1e-5 * scale)
+    assert r.error_relative <= 1e-8
+    time = r.extra["switched"]["time"]
+    assert time["limiter"]["forward"] + time["limiter"]["backward"] >= 0.5       # it slips through the jam
+    assert time["drive_rotor"]["high"] > 0                                       # the servo hits its limit
+    assert_allclose(r.signals["omega_drum"][r.t > 3.6], 0.0, atol=1e-9)         # braked to rest

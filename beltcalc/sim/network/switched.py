@@ -48,7 +48,8 @@ import numpy as np
 from beltcalc.errors import InputError, SimulationError
 from beltcalc.sim.network.assembly import Event
 
-ROUND = 1024 * np.finfo(float).eps   # the switching core's rounding level (beltcalc.sim.switching.firing.ROUND)
+EPS = np.finfo(float).eps
+ROUND = 1024 * EPS   # the switching core's rounding level (beltcalc.sim.switching.firing.ROUND)
 TERMS = 8            # Taylor terms of a decision's leaving test
 MAX_TRIALS = 4096    # modes tried at one decision
 DRIFT = 1e-9         # a stuck joint's relative speed below this of the largest speed is drift (settled)
@@ -136,9 +137,19 @@ class SwitchedModes:
             # joints that hold the same motion twice (a brake and a bearing on one stopped
             # drum, joints in a loop) share their torque: the least-norm lambdas
             lam = np.linalg.solve(W, rhs) if W.shape[0] == 1 else np.linalg.lstsq(W, rhs, rcond=1e-10)[0]
+            # a torque that cancels to rounding inside the solve is zero (a drum shaft's torque
+            # on a clutch whose driven hub a brake holds: 1e-13 of it)
+            size = np.abs(np.linalg.pinv(W, rcond=1e-10)) @ (np.abs(G) @ np.abs(acc))
+            lam[np.abs(lam) <= 64 * EPS * size] = 0.0
         push = (inv[:, None] * G.T) @ lam
-        A[n:2 * n] -= push[:, :m]
-        B[n:2 * n] -= push[:, m:]
+        bound = (inv[:, None] * np.abs(G.T)) @ np.abs(lam)      # the terms' magnitudes
+        for M, part, size in ((A, push[:, :m], bound[:, :m]), (B, push[:, m:], bound[:, m:])):
+            # what cancels to rounding (a held node's acceleration: 1e-10 of a stiffness over an
+            # inertia) is zero: left, it is a slow spurious motion that a tolerance-driven
+            # solver chases with tiny steps
+            scale = np.abs(M[n:2 * n]) + size
+            M[n:2 * n] -= part
+            M[n:2 * n][np.abs(M[n:2 * n]) <= 64 * EPS * scale] = 0.0
         return {id(el): lam[k] for k, (el, _) in enumerate(stuck)}
 
     def joint_rows(self, pattern, t_mid: float) -> dict:

@@ -275,3 +275,44 @@ def test_the_built_in_limiter_example_matches_radau_with_events():
     assert time["limiter"]["forward"] + time["limiter"]["backward"] >= 0.5       # it slips through the jam
     assert time["drive_rotor"]["high"] > 0                                       # the servo hits its limit
     assert_allclose(r.signals["omega_drum"][r.t > 3.6], 0.0, atol=1e-9)         # braked to rest
+
+
+# --- the frequency domain in one mode ------------------------------------------------------------------
+def test_a_stuck_clutch_is_a_rigid_gear_for_the_modes_and_a_slipping_one_only_its_damper():
+    """Three inertias on two springs with a clutch (ratio 2) in the middle: stuck, the drive's
+    modes are those of the same drive with a rigid gear there (the clutch's degree of freedom
+    merged); slipping, those of the two halves apart (its torque is an input), each against
+    the closed form of a two-mass oscillator sqrt(k (J1 + J2) / (J1 J2))."""
+    from beltcalc.sim.drivefile import undamped_frequencies
+    from beltcalc.sim.network import Gear
+
+    nodes = [Inertia("a", 0.02), Inertia("b", 0.05), Inertia("c", 0.01), Inertia("d", 0.3)]
+    springs = [Coupling("k1", "a", "b", 800.0, 0.0), Coupling("k2", "c", "d", 1500.0, 0.0)]
+    net = Network(nodes, springs + [Friction("cl", "b", "c", ((0.0, 40.0),), U=2.0)])
+    stuck = net.frozen(net.full_pattern(()))
+    geared = Network(nodes, springs + [Gear("b", "c", 2.0)])
+    assert_allclose(undamped_frequencies(stuck), undamped_frequencies(geared), rtol=1e-12)
+    slipping = net.frozen((Friction.FORWARD,))
+    two = sorted([math.sqrt(800.0 * 0.07 / (0.02 * 0.05)), math.sqrt(1500.0 * 0.31 / (0.01 * 0.3))])
+    assert_allclose(sorted(undamped_frequencies(slipping)), np.array(two) / (2 * math.pi), rtol=1e-12)
+    assert net.describe((Friction.FORWARD,)) == "cl forward"
+
+
+def test_the_modes_command_says_which_mode_and_takes_a_named_one():
+    from click.testing import CliRunner
+
+    from beltcalc.cli.main import cli
+
+    import json
+
+    res = CliRunner().invoke(cli, ["modes", "conveyor_limiter", "--json"])
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.stdout)
+    assert out["mode"] == "drive_rotor free, limiter stuck, brake stuck, belt stuck (at the end of the run, t = 5 s)"
+    res = CliRunner().invoke(cli, ["modes", "conveyor_limiter", "--mode", "limiter=forward", "--mode", "brake=free",
+                                   "--mode", "belt=forward", "--mode", "drive_rotor=free", "--json"])
+    out = json.loads(res.stdout)
+    assert out["mode"].endswith("(named)")
+    assert len([m for m in out["modes"] if m["kind"] == "oscillatory"]) == 3
+    res = CliRunner().invoke(cli, ["modes", "conveyor_limiter", "--mode", "limiter=slack"])
+    assert res.exit_code == 2 and "--mode" in res.output and "stuck, forward, backward" in res.output

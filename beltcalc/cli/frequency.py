@@ -34,14 +34,21 @@ def drive_options(func):
         catalog_option,
         click.option("--plot", "plot_path", type=OutputPath(), default=None,
                      help="Write a plot: PNG, PDF or SVG, by the file's suffix (needs matplotlib)."),
+        click.option("--mode", "modes_named", multiple=True, metavar="ELEMENT=STATE",
+                     help="The mode of a clutch, brake, friction or limited drive to analyse, e.g. "
+                          "--mode limiter=forward (repeatable; states: stuck, forward, backward, free; a drive: "
+                          "free, high, low). Default: each one's mode at the end of the drive's run."),
         output_options,
     ]):
         func = opt(func)
     return func
 
 
-def _drive(ref: str, assignments, catalog_paths, plot_path, names: dict | None = None):
-    """The drive ``ref`` with the ``--set`` values; errors about its values name ``--set``."""
+def _drive(ref: str, assignments, catalog_paths, plot_path, names: dict | None = None, modes_named=()):
+    """The drive ``ref`` with the ``--set`` values; errors about its values name ``--set``. A
+    drive with clutches, brakes, friction or limited drives is taken in one mode
+    (:meth:`beltcalc.sim.network.Network.frozen`): those ``--mode`` names, the others as the
+    drive's run ends; ``d.mode`` says which (None: no such element)."""
     from beltcalc.params import parse_assignments
     from beltcalc.sim import frequency_report as fq
     from beltcalc.sim.scenes.drive import drive_scene
@@ -60,7 +67,47 @@ def _drive(ref: str, assignments, catalog_paths, plot_path, names: dict | None =
     given = parse_assignments([p for p in spec.params if "." in p.name], assignments)
     d = fq.load(spec.file, given, catalog)
     meta[INPUTS] = inputs_json(spec.params, spec.resolve(spec.file, given)[1])
+    d.mode = None
+    if d.network.switched or modes_named:
+        pattern, origin = fq.chosen_mode(d, _named_modes(d.network, modes_named))
+        d.mode = f"{d.network.describe(pattern)} ({origin})"
+        d.network = d.network.frozen(pattern)
     return d
+
+
+def _named_modes(net, given) -> dict[str, str]:
+    """``--mode ELEMENT=STATE`` values, checked against the drive's elements and their states."""
+    out = {}
+    names = {el.name: el for el in net.switched}
+    for item in given:
+        name, _, state = item.partition("=")
+        if name not in names:
+            have = ", ".join(names) or "none in this drive"
+            raise click.BadParameter(f"{name!r} is not a clutch, brake, friction or limited drive of the drive "
+                                     f"(these are: {have})", param_hint="--mode")
+        if state not in names[name].STATES:
+            raise click.BadParameter(f"{state!r} is not a state of {name}; use one of "
+                                     f"{', '.join(names[name].STATES)}", param_hint="--mode")
+        out[name] = state
+    return out
+
+
+def _with_mode(d, obj: dict) -> dict:
+    """The JSON object with the drive's mode (where it has elements with modes) after its file."""
+    if not getattr(d, "mode", None):
+        return obj
+    out = {}
+    for key, value in obj.items():
+        out[key] = value
+        if key == "file":
+            out["mode"] = d.mode
+    out.setdefault("mode", d.mode)
+    return out
+
+
+def _mode_note(d) -> None:
+    if getattr(d, "mode", None):
+        console().print(f"in the mode: {d.mode}", markup=False, highlight=False, soft_wrap=True)
 
 
 def _floats(values) -> list:
@@ -175,7 +222,7 @@ def _modes_csv(m, nodes: list[str]) -> str:
 
 @click.command("modes")
 @drive_options
-def modes(drive, assignments, catalog_paths, plot_path, as_json, csv_path):
+def modes(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path):
     """Every pole of a drive (a drive file, or a built-in drive by name: conveyor, sewing
     [default], roller_table, linear_axis, friswell_5_disks, friswell_geared): rigid-body modes,
     oscillatory modes (natural and damped frequency, damping ratio), real poles (time
@@ -184,14 +231,14 @@ def modes(drive, assignments, catalog_paths, plot_path, as_json, csv_path):
     (the ones to stiffen), largest first. Strands taut, motor states included."""
     from beltcalc.sim import frequency_report as fq
 
-    d = _drive(drive, assignments, catalog_paths, plot_path)
+    d = _drive(drive, assignments, catalog_paths, plot_path, modes_named=modes_named)
     m = fq.modes(d.network)
     nodes = [nd.name for nd in d.network.nodes]
     _emit(csv_path, plot_path, as_json, lambda: _modes_csv(m, nodes),
           lambda path: write_figure(modes_figure(m, nodes, d.title), path),
-          lambda: {"drive": d.title, "file": d.path, "modes": m.to_list(),
+          lambda: {"drive": d.title, "file": d.path, **({"mode": d.mode} if d.mode else {}), "modes": m.to_list(),
                    "undamped_frequencies": {"value": _floats(m.undamped), "unit": "Hz"}},
-          lambda: _print_modes(d, m))
+          lambda: (_mode_note(d), _print_modes(d, m)))
 
 
 # --- frequency response ---------------------------------------------------------------------------------
@@ -276,19 +323,19 @@ def _print_response(d, r, spacing: str) -> None:
 @click.option("--points", type=click.IntRange(1, 100_000), default=2000, show_default=True,
               help="Frequencies (1: --from alone).")
 @click.option("--spacing", type=click.Choice(["log", "linear"]), default="log", show_default=True)
-def response(drive, assignments, catalog_paths, plot_path, as_json, csv_path, inputs, outputs, f_from, f_to, points,
-             spacing):
+def response(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path, inputs, outputs, f_from,
+             f_to, points, spacing):
     """The frequency response H(jw) of a drive (default: the sewing drive) from each input to each
     output: magnitude in the output's unit per the input's unit, and phase, computed exactly
     (no time simulation); the resonance peaks with their frequency, magnitude and Q (half-power
     bandwidth). --plot writes a Bode plot."""
     from beltcalc.sim import frequency_report as fq
 
-    d = _drive(drive, assignments, catalog_paths, plot_path, {"f_min": "--from", "f_max": "--to"})
+    d = _drive(drive, assignments, catalog_paths, plot_path, {"f_min": "--from", "f_max": "--to"}, modes_named)
     r = fq.response(d.network, list(inputs), list(outputs), f_from, f_to, points, spacing)
     _emit(csv_path, plot_path, as_json, lambda: _response_csv(r),
           lambda path: write_figure(response_figure(r, d.title), path),
-          lambda: _response_json(d, r), lambda: _print_response(d, r, spacing))
+          lambda: _with_mode(d, _response_json(d, r)), lambda: (_mode_note(d), _print_response(d, r, spacing)))
 
 
 # --- Campbell diagram -------------------------------------------------------------------------------------
@@ -368,16 +415,16 @@ def _print_campbell(d, c) -> None:
 @quantity_option("--speed-min", si_unit="rad/s", default="0rad/s", help="Lowest speed of the reference node.")
 @click.option("--reference", default=None, metavar="NODE",
               help="The node whose speed the orders count [default: the first motor's node, else the first node].")
-def campbell(drive, assignments, catalog_paths, plot_path, as_json, csv_path, orders_text, speed_max, speed_min,
-             reference):
+def campbell(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path, orders_text, speed_max,
+             speed_min, reference):
     """The Campbell diagram of a drive (default: the sewing drive): where the excitation orders
     cross its modes as the reference node runs up, each crossing with its speed (rad/s, rpm, and
     against the operating speed), order, mode, frequency and the mode's damping ratio."""
     from beltcalc.sim import frequency_report as fq
 
     orders = None if orders_text is None else _orders(orders_text)
-    d = _drive(drive, assignments, catalog_paths, plot_path)
+    d = _drive(drive, assignments, catalog_paths, plot_path, modes_named=modes_named)
     c = fq.campbell(d, orders, speed_max, speed_min, reference)
     _emit(csv_path, plot_path, as_json, lambda: _campbell_csv(c),
           lambda path: write_figure(campbell_figure(c, d.title), path),
-          lambda: _campbell_json(d, c), lambda: _print_campbell(d, c))
+          lambda: _with_mode(d, _campbell_json(d, c)), lambda: (_mode_note(d), _print_campbell(d, c)))

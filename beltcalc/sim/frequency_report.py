@@ -37,6 +37,33 @@ def load(ref: str | Path, values: dict | None = None, catalog=None):
     return DriveFile(drive_path(ref)).build(values, catalog)
 
 
+def chosen_mode(drive, named: dict[str, str]) -> tuple[tuple, str]:
+    """(mode, where it comes from) of a drive with clutches, brakes, friction or limited
+    drives, for the frequency domain: the states ``named`` ({element: state name}), the others
+    as the drive's own run ends (an exact run over its ``t_end``, no error estimate: the mode
+    at the end, not the figures)."""
+    from beltcalc.sim.core import SolverConfig, simulate
+
+    net = drive.network
+    ns = len(net.strands)
+    pattern = list(net.taut)
+    origin = "named" if named else ""
+    rest = [el for el in net.switched if el.name not in named]
+    if rest:
+        result = simulate(net, drive.t_end, 2, SolverConfig("exact", estimate_error=False))
+        history = result.extra["switched"]
+        end = list(history["start"])
+        for _, j, state in history["log"]:
+            end[j] = state
+        for j, el in enumerate(net.switched):
+            pattern[ns + j] = end[j]
+        origin = f"at the end of the run, t = {drive.t_end:g} s" + ("; the rest named" if named else "")
+    for j, el in enumerate(net.switched):
+        if el.name in named:
+            pattern[ns + j] = el.STATES.index(named[el.name])
+    return tuple(pattern), origin
+
+
 # --- modes ------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Modes:

@@ -299,6 +299,47 @@ class SwitchedModes:
                         return False
         return True
 
+    # --- the frequency domain: one mode as a linear network --------------------------------
+    def frozen(self, pattern):
+        """The linear network of one mode, for the frequency domain (modes, response,
+        campbell): a stuck clutch a rigid gear between its nodes (its degree of freedom
+        merged: no spurious rigid-body pole), a stuck brake or bearing a node held still, a
+        slipping or free one only its viscous part (its torque is an input, not a stiffness),
+        a drive at its limit a constant torque, a free one its linear loop."""
+        import dataclasses
+
+        from beltcalc.sim.elements import Coupling, Gear, Load, Prescribed
+
+        pattern = self.full_pattern(pattern)
+        ns = len(self.strands)
+        held = {p.node for p in self.prescribed}
+        elements = list(self.gears) + list(self.strands)
+        by_el = dict(zip(map(id, self.switched), pattern[ns:]))
+        for el in self.elements:
+            state = by_el.get(id(el))
+            if state is None:
+                elements.append(el)
+            elif hasattr(el, "slip_sign"):
+                if state == el.STUCK and el.j is not None:
+                    elements.append(Gear(el.i, el.j, el.U, name=el.name))
+                elif state == el.STUCK and el.i not in held:
+                    elements.append(Prescribed(el.i))
+                    held.add(el.i)
+                if el.viscous and not (state == el.STUCK):
+                    elements.append(Coupling(el.name, el.i, el.j, 0.0, el.viscous, el.U))
+            elif state == el.FREE:
+                elements.append(dataclasses.replace(el, limit=float("inf")))
+            else:
+                limit = el.limit if state in (el.HIGH, el.HELD_HIGH) else -el.limit
+                elements.append(Load(el.node, -limit))
+        return type(self)(list(self.nodes), elements)
+
+    def describe(self, pattern) -> str:
+        """The switched elements' states of ``pattern`` in words (``limiter stuck, ...``)."""
+        pattern = self.full_pattern(pattern)
+        ns = len(self.strands)
+        return ", ".join(f"{el.name} {el.STATES[s]}" for el, s in zip(self.switched, pattern[ns:]))
+
     # --- per sample (outputs) ---------------------------------------------------------------
     def seed_switched(self, t: np.ndarray | None, states: np.ndarray | None) -> None:
         """Let :meth:`switched_states` answer for the array ``t`` (the same object) with the

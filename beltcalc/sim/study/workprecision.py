@@ -15,7 +15,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from beltcalc.errors import SimulationError
+from beltcalc.errors import InputError, SimulationError
 from beltcalc.sim.core import SolverConfig, simulate
 from beltcalc.sim.methods import METHODS
 from beltcalc.sim.network import Network
@@ -60,7 +60,7 @@ def work_precision(network: Network, t_end: float, samples: int, signal: str,
                 r = min(runs, key=lambda x: x.wall_time)
                 rows.append(WorkRow(method, tol, r.wall_time, r.rhs_calls, r.steps,
                                     float(np.max(np.abs(r[signal] - ref)))))
-            except SimulationError as exc:
+            except (SimulationError, InputError) as exc:     # a method that refuses the drive: its line
                 rows.append(WorkRow(method, tol, float("nan"), max_rhs_calls, 0, None, str(exc).split(";")[0]))
             if progress:
                 progress()

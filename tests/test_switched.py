@@ -316,3 +316,32 @@ def test_the_modes_command_says_which_mode_and_takes_a_named_one():
     assert len([m for m in out["modes"] if m["kind"] == "oscillatory"]) == 3
     res = CliRunner().invoke(cli, ["modes", "conveyor_limiter", "--mode", "limiter=slack"])
     assert res.exit_code == 2 and "--mode" in res.output and "stuck, forward, backward" in res.output
+
+
+@pytest.mark.slow
+def test_hundreds_of_stick_slip_switches_match_radau_with_events_through_the_cli():
+    """A spindle whose bearing friction sticks and slips both ways every period of a sine
+    drive (tests/data/stick_slip_sine.toml; 159 switches in 5 s): the command's report (mode
+    changes, time stuck) against Radau with events at rtol 1e-9 over the first 2 s, every
+    switch time and speed to Radau's tolerance (measured at rtol 1e-10 over 5 s: switch times
+    5e-14 s, speeds 1e-11 rad/s)."""
+    from pathlib import Path
+
+    from beltcalc.sim.drivefile import load_drive
+
+    path = Path(__file__).parent / "data" / "stick_slip_sine.toml"
+    res, out = _cli(str(path), "--t-end", "2s", "--window", "1s", "--json")
+    assert res.exit_code == 0, res.output
+    net = load_drive(str(path)).network
+    mine = simulate(net, 2.0, 2001, SolverConfig())
+    ref = simulate(net, 2.0, 2001, SolverConfig("radau", 1e-9, 1e-12, estimate_error=False))
+    log, ref_log = _log(mine), _log(ref)
+    assert len(log) >= 50
+    assert [s for _, _, s in log] == [s for _, _, s in ref_log]
+    assert_allclose([t for t, _, _ in log], [t for t, _, _ in ref_log], rtol=0, atol=1e-8)
+    assert_allclose(mine.signals["omega_spindle"], ref.signals["omega_spindle"], rtol=0, atol=1e-7)
+    report = out["switched"]["bearing"]
+    assert report["switches"]["value"] == len(log)
+    assert report["time_stuck"]["value"] == pytest.approx(ref.extra["switched"]["time"]["bearing"]["stuck"],
+                                                          rel=0, abs=1e-7)
+    assert out["error_relative"]["value"] <= 1e-9

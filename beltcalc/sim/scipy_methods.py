@@ -116,7 +116,7 @@ class Switches:
         F = augmented_matrix(network, self.taut, t_mid)
         self.taut = network.full_pattern(tuple(network.taut_after(k, z0, F @ z0, ahead(F, z0, h), h)
                                                for k in range(len(d))))
-        self.taut, self.z = network.decide_switched(z0, self.taut, t_mid, h)
+        self.taut, self.z = network.decide_switched(z0, self.taut, t_mid, h, slack=cfg.rtol)
         self.start = self.taut
         self.log: list[tuple[float, int, bool]] = []
         self.located = 0
@@ -143,7 +143,7 @@ class Switches:
 
     def restart(self, t: float, z: np.ndarray, h: float, t_mid: float, fired: int | None = None) -> None:
         """Decide the switched elements just after ``t`` (a switch, or a new time piece)."""
-        new, self.z = self.network.decide_switched(z, self.taut, t_mid, h, fired)
+        new, self.z = self.network.decide_switched(z, self.taut, t_mid, h, fired, slack=self.cfg.rtol)
         for k, (a, b) in enumerate(zip(self.taut, new)):
             if a != b:
                 self.log.append((t, k, b))

@@ -204,13 +204,14 @@ class SwitchedModes:
         return z
 
     def decide_switched(self, z: np.ndarray, pattern, t_mid: float, h: float,
-                        fired: int | None = None) -> tuple[tuple, np.ndarray]:
+                        fired: int | None = None, slack: float = 0.0) -> tuple[tuple, np.ndarray]:
         """(mode, z): the switched elements' states just after a restart at ``z`` (over
         [x, g]) in the strand pattern of ``pattern`` (the current states where every condition
         is off its surface, else the first mode tried whose conditions hold: see the module),
         and z with its stuck joints settled (:meth:`settle_joints`). ``h``: a step of the mode
         (the Taylor terms' scale); ``fired``: the element whose condition fired (decided in
-        any case)."""
+        any case); ``slack``: the relative error of z where it is not exact (a scipy method's
+        rtol): a condition within it of its surface is on it."""
         pattern = self.full_pattern(pattern)
         if not self.switched:
             return pattern, z
@@ -223,7 +224,7 @@ class SwitchedModes:
         open_ = []
         for j in range(len(self.switched)):
             if j == fired or current[j] not in options[j] or any(
-                    row @ z <= ROUND * (np.abs(row) @ mag) + 1e-300 for row, _ in conds[j]):
+                    row @ z <= max(ROUND, slack) * (np.abs(row) @ mag) + 1e-300 for row, _ in conds[j]):
                 open_.append(j)
         if not open_:
             return pattern, z
@@ -236,7 +237,7 @@ class SwitchedModes:
             for j, s in zip(open_, combo):
                 trial[ns + j] = s
             trial = tuple(trial)
-            if self._holds(z, trial, t_mid, h):
+            if self._holds(z, trial, t_mid, h, slack):
                 return trial, self.settle_joints(z, trial)
         names = ", ".join(self.switched[j].name for j in open_)
         raise SimulationError(f"no mode of {names} holds just after this switch (tried {min(count + 1, MAX_TRIALS)}); "
@@ -277,7 +278,7 @@ class SwitchedModes:
     def _magnitudes(self, pattern, t_mid, z, h) -> np.ndarray:
         return np.abs(self._terms(pattern, t_mid, z, h)).sum(axis=0)
 
-    def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float) -> bool:
+    def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float, slack: float = 0.0) -> bool:
         """Whether every switched element's conditions hold just after z in ``pattern``."""
         V, U = self._terms(pattern, t_mid, z, h, bound=True)
         mag = self._levels(z, np.abs(V).sum(axis=0))
@@ -286,7 +287,7 @@ class SwitchedModes:
         for conds in self.conditions(pattern, t_mid):
             for row, event in conds:
                 value = row @ z
-                tol = ROUND * (np.abs(row) @ mag) + 1e-300
+                tol = max(ROUND, slack) * (np.abs(row) @ mag) + 1e-300
                 if not event:      # a stuck joint's zero speed: drift that settling removes is zero
                     tol = max(tol, DRIFT * top * float(np.abs(row[n:2 * n]).sum()))
                 if value < -tol:

@@ -230,6 +230,7 @@ class SwitchedModes:
             return pattern, z
         tries = [[current[j]] + [s for s in options[j] if s != current[j]] if current[j] in options[j]
                  else list(options[j]) for j in open_]
+        by_value = None
         for count, combo in enumerate(itertools.product(*tries)):
             if count >= MAX_TRIALS:
                 break
@@ -239,6 +240,12 @@ class SwitchedModes:
             trial = tuple(trial)
             if self._holds(z, trial, t_mid, h, slack):
                 return trial, self.settle_joints(z, trial)
+            if slack and by_value is None and self._holds(z, trial, t_mid, h, slack, rates=False):
+                by_value = trial
+        if by_value is not None:
+            # a state known to a solver's tolerance only (scipy's): the rates just after it say
+            # nothing that tolerance does not swamp; the first mode its values admit
+            return by_value, self.settle_joints(z, by_value)
         names = ", ".join(self.switched[j].name for j in open_)
         raise SimulationError(f"no mode of {names} holds just after this switch (tried {min(count + 1, MAX_TRIALS)}); "
                               "the friction or limit values may contradict each other")
@@ -278,7 +285,7 @@ class SwitchedModes:
     def _magnitudes(self, pattern, t_mid, z, h) -> np.ndarray:
         return np.abs(self._terms(pattern, t_mid, z, h)).sum(axis=0)
 
-    def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float, slack: float = 0.0) -> bool:
+    def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float, slack: float = 0.0, rates: bool = True) -> bool:
         """Whether every switched element's conditions hold just after z in ``pattern``."""
         V, U = self._terms(pattern, t_mid, z, h, bound=True)
         mag = self._levels(z, np.abs(V).sum(axis=0))
@@ -292,7 +299,7 @@ class SwitchedModes:
                     tol = max(tol, DRIFT * top * float(np.abs(row[n:2 * n]).sum()))
                 if value < -tol:
                     return False
-                if value <= tol and event:          # (a row that is no switch: its value alone)
+                if value <= tol and event and rates:          # (a row that is no switch: its value alone)
                     c = V[1:] @ row
                     level = ROUND * (U[1:] @ np.abs(row)) + 1e-300
                     big = np.flatnonzero(np.abs(c) > level)

@@ -213,7 +213,7 @@ class Friction(Switched):
         speed = "m/s" if net.node(self.i).translation else "rad/s"
         return {f"T_{self.name}": (np.broadcast_to(T, np.shape(t)).astype(float), unit),
                 f"w_{self.name}": (w, speed),
-                f"mode_{self.name}": (np.broadcast_to(state, np.shape(t)).astype(float), "")}
+                f"mode_{self.name}": (np.broadcast_to(state, np.shape(t)).astype(float), "1")}
 
 
 # --- the speed loop: PI with a torque limit ------------------------------------------------------
@@ -370,6 +370,6 @@ class SpeedLoop(Switched):
             high = (state == self.HIGH) | (state == self.HELD_HIGH)
             low = (state == self.LOW) | (state == self.HELD_LOW)
             T = np.where(high, self.limit, np.where(low, -self.limit, T))
-            out[f"mode_{self.name}"] = (np.broadcast_to(state, np.shape(t)).astype(float), "")
+            out[f"mode_{self.name}"] = (np.broadcast_to(state, np.shape(t)).astype(float), "1")
         out[f"T_drive_{self.node}"] = (np.array(np.broadcast_to(T, np.shape(t)), dtype=float), unit)
         return out

@@ -230,6 +230,11 @@ def ivp(name: str, uses_jac: bool):
                                 atol=cfg.atol, events=events or None, **kwargs)
             except Budget as stop:
                 raise SimulationError(budget_message(name, stop.args[0], cfg, budget, network)) from None
+            except ValueError as exc:
+                # scipy's event location (brentq on the step's interpolant) meets a function that
+                # changed sign between the step's points but not on the interpolant
+                raise SimulationError(f"method {name.lower()}: scipy's event location failed after t = "
+                                      f"{t_cur:.6g} s ({exc}); try another `rtol`, or method exact") from None
             for key in stats:
                 stats[key] += int(getattr(sol, key))
             if sol.status < 0:

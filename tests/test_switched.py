@@ -253,15 +253,16 @@ def _net_modes(log, count):
     return [(w, s) for k, (w, s) in enumerate(out) if k == 0 or s != out[k - 1][1]]
 
 
-def test_the_built_in_limiter_example_matches_radau_with_events():
+@pytest.mark.parametrize("values", [{}, {"limiter.torque": 70.0}], ids=["as built", "static limit = slipping"])
+def test_the_built_in_limiter_example_matches_radau_with_events(values):
     """The built-in drive ``conveyor_limiter`` (a servo at its torque limit, a torque limiter
     through a jam, a brake, belt friction that sticks): every mode change and every speed
     against Radau with events at rtol 1e-6, to Radau's tolerance (rtol 1e-8 does not pass
     3.5 s in minutes: the jaw's torque is a difference of 458 rad angles, whose rounding
     Radau's error control chases; the exact run takes under a second)."""
-    from beltcalc.sim.drivefile import load_drive
+    from beltcalc.sim.drivefile import DriveFile, drive_path
 
-    net = load_drive("conveyor_limiter").network
+    net = DriveFile(drive_path("conveyor_limiter")).build(values).network
     r = simulate(net, 5.0, 5001, SolverConfig())
     ref = simulate(net, 5.0, 5001, SolverConfig("radau", 1e-6, 1e-8, estimate_error=False))
     count = len(net.switched)

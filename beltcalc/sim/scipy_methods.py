@@ -116,7 +116,7 @@ class Switches:
         F = augmented_matrix(network, self.taut, t_mid)
         self.taut = network.full_pattern(tuple(network.taut_after(k, z0, F @ z0, ahead(F, z0, h), h)
                                                for k in range(len(d))))
-        self.taut, self.z = network.decide_switched(z0, self.taut, t_mid, h, slack=cfg.rtol)
+        self.taut, self.z = network.decide_switched(z0, self.taut, t_mid, h, slack=cfg.rtol, guess=True)
         self.start = self.taut
         self.log: list[tuple[float, int, bool]] = []
         self.located = 0

@@ -182,16 +182,18 @@ class SwitchedModes:
         return [Event(ns + j, "condition", -1, row)
                 for j, conds in enumerate(self.conditions(pattern, t_mid)) for row, event in conds if event]
 
-    def settle_joints(self, z: np.ndarray, pattern) -> np.ndarray:
+    def settle_joints(self, z: np.ndarray, pattern, guess: bool = False) -> np.ndarray:
         """z with the relative speed of every stuck joint of ``pattern`` exactly zero: the
         speeds' least change in kinetic energy that does it (momentum kept), removing the
-        rounding a long stretch of sticking leaves (1e-12 of the speeds)."""
+        rounding a long stretch of sticking leaves (1e-12 of the speeds the drive had, which
+        can be far more than those it has once it comes to rest). ``guess``: the pattern is a
+        first guess (the start), whose "stuck" clutch may slip at 100 rad/s: only joints whose
+        relative speed is below DRIFT of the speeds are settled, the rest is for the decision."""
         ns, n = len(self.strands), self.n
         G = [el.joint(self, st) for el, st in zip(self.switched, pattern[ns:])]
-        # only joints whose relative speed is drift (a mode taken as a first guess, e.g. at the
-        # start, may call a clutch stuck that slips at 100 rad/s: that is for decide to judge)
         top = float(np.max(np.abs(z[n:2 * n]))) if n else 0.0
-        G = np.array([g for g in G if g is not None and abs(g @ z[n:2 * n]) <= DRIFT * top * np.abs(g).sum()])
+        G = np.array([g for g in G if g is not None and (not guess or
+                                                          abs(g @ z[n:2 * n]) <= DRIFT * top * np.abs(g).sum())])
         if not G.size:
             return z
         inv = 1.0 / self.mass
@@ -204,18 +206,19 @@ class SwitchedModes:
         return z
 
     def decide_switched(self, z: np.ndarray, pattern, t_mid: float, h: float,
-                        fired: int | None = None, slack: float = 0.0) -> tuple[tuple, np.ndarray]:
+                        fired: int | None = None, slack: float = 0.0, guess: bool = False) -> tuple[tuple, np.ndarray]:
         """(mode, z): the switched elements' states just after a restart at ``z`` (over
         [x, g]) in the strand pattern of ``pattern`` (the current states where every condition
         is off its surface, else the first mode tried whose conditions hold: see the module),
         and z with its stuck joints settled (:meth:`settle_joints`). ``h``: a step of the mode
         (the Taylor terms' scale); ``fired``: the element whose condition fired (decided in
         any case); ``slack``: the relative error of z where it is not exact (a scipy method's
-        rtol): a condition within it of its surface is on it."""
+        rtol): a condition within it of its surface is on it; ``guess``: ``pattern`` is a first
+        guess (the run's start), not the mode the run was in."""
         pattern = self.full_pattern(pattern)
         if not self.switched:
             return pattern, z
-        z = self.settle_joints(z, pattern)
+        z = self.settle_joints(z, pattern, guess)
         ns = len(self.strands)
         current = list(pattern[ns:])
         options = [el.candidates(t_mid) for el in self.switched]
@@ -238,9 +241,9 @@ class SwitchedModes:
             for j, s in zip(open_, combo):
                 trial[ns + j] = s
             trial = tuple(trial)
-            if self._holds(z, trial, t_mid, h, slack):
+            if self._holds(z, trial, t_mid, h, slack, fired=fired):
                 return trial, self.settle_joints(z, trial)
-            if slack and by_value is None and self._holds(z, trial, t_mid, h, slack, rates=False):
+            if slack and by_value is None and self._holds(z, trial, t_mid, h, slack, rates=False, fired=fired):
                 by_value = trial
         if by_value is not None:
             # a state known to a solver's tolerance only (scipy's): the rates just after it say
@@ -285,13 +288,14 @@ class SwitchedModes:
     def _magnitudes(self, pattern, t_mid, z, h) -> np.ndarray:
         return np.abs(self._terms(pattern, t_mid, z, h)).sum(axis=0)
 
-    def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float, slack: float = 0.0, rates: bool = True) -> bool:
+    def _holds(self, z: np.ndarray, pattern, t_mid: float, h: float, slack: float = 0.0, rates: bool = True,
+               fired: int | None = None) -> bool:
         """Whether every switched element's conditions hold just after z in ``pattern``."""
         V, U = self._terms(pattern, t_mid, z, h, bound=True)
         mag = self._levels(z, np.abs(V).sum(axis=0))
         n = self.n
         top = float(np.max(np.abs(z[n:2 * n]))) if n else 0.0
-        for conds in self.conditions(pattern, t_mid):
+        for j, conds in enumerate(self.conditions(pattern, t_mid)):
             for row, event in conds:
                 value = row @ z
                 tol = max(ROUND, slack) * (np.abs(row) @ mag) + 1e-300

@@ -227,7 +227,7 @@ class Run(Outputs):
             taut = self._decide_strands(z, taut, seg, strands, t_mid)
         if net.switched:
             h = self.cache.get(taut, seg, t_mid).L
-            taut, settled = net.decide_switched(z * self.S, taut, t_mid, h, fired)
+            taut, settled = net.decide_switched(z * self.S, taut, t_mid, h, fired, guess=start)
             self.settled = settled / self.S
         return taut
 

@@ -253,7 +253,8 @@ def _net_modes(log, count):
     return [(w, s) for k, (w, s) in enumerate(out) if k == 0 or s != out[k - 1][1]]
 
 
-@pytest.mark.parametrize("values", [{}, {"limiter.torque": 70.0}], ids=["as built", "static limit = slipping"])
+@pytest.mark.parametrize("values", [{}, {"limiter.torque": 70.0}, {"belt.torque": 2.0}],
+                         ids=["as built", "static limit = slipping", "a drum that rocks to rest"])
 def test_the_built_in_limiter_example_matches_radau_with_events(values):
     """The built-in drive ``conveyor_limiter`` (a servo at its torque limit, a torque limiter
     through a jam, a brake, belt friction that sticks): every mode change and every speed

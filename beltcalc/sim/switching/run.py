@@ -129,10 +129,6 @@ class Run(Outputs):
         pieces = [augmented_matrix(network, loose, network.piece_time(k, self.starts, t_end))
                   for k in range(len(self.starts))]
         self.rigid, self.rigid_root = rigid_modes(pieces, network.n)
-        if network.switched:
-            # not re-based: a clutch's slip heat reads the relative angle of two sides that
-            # turn freely (rigidly) in its loose mode; the angles keep their rounding instead
-            self.rigid, self.rigid_root = self.rigid[:0], self.rigid_root[:0]
         self.rigid_speed = network.n + self.rigid_root
         self.rigid_z = self.rigid / self.S[None, :] if self.rigid.size else self.rigid
         self.theta = np.zeros(self.rigid.shape[0])              # the rotation taken out so far
@@ -435,10 +431,11 @@ class Run(Outputs):
                     f"method {self.method}: the run needs about {need:.3g} internal steps of {mode.L:.3g} s (its "
                     f"stiffest part), more than {MAX_STEPS:,}; a stiffness or a damping many decades above the "
                     "rest? Check the inputs, shorten the run, or make a very stiff coupling rigid")
-            z_from, I_from = z, self.I_run
+            z_from, I_from, theta_from, rebased = z, self.I_run, self.theta, len(self.rebases)
             t_new, z, e = self.advance(mode, z, t_cur, t_stop)
             if net.switched:
-                self._heat(taut, seg, t_cur, z_from, I_from, t_new, z, self.I_run)
+                self._heat(taut, seg, (t_cur, z_from, I_from, theta_from), (t_new, z, self.I_run, self.theta),
+                           self.rebases[rebased:])
             z = self.rebase(z, t_new)
             self.piece_ends.append(t_new)
             if self.integrate:
@@ -474,26 +471,37 @@ class Run(Outputs):
             self.watch.finish()
         return self
 
-    def _heat(self, taut, seg, t0, z0, I0, t1, z1, I1) -> None:
-        """Add the work each slipping friction element turned into heat over [t0, t1], exactly:
+    def _heat(self, taut, seg, start, end, rebases) -> None:
+        """Add the work each slipping friction element turned into heat over a stretch, exactly:
         with T = s (a + c t) on the piece and phi = g . q its relative angle,
         ``int T phi' dt = s [(a + c t) phi] - s c int phi dt`` (the run's integral of the
-        state gives the last term)."""
+        state gives the last term). ``start``, ``end``: (t, z, its integral, the rotation taken
+        out so far); ``rebases``: those made within the stretch. The relative angle of two
+        sides that turn freely in the loose mode has a part along the rigid rotations that the
+        run re-bases: it is added back, ``(g . rigid) theta``, and its integral from the
+        rotation's steps."""
         net = self.network
         t_mid = net.piece_time(seg, self.starts, self.t_end)
         n, ns = net.n, len(net.strands)
+        (t0, z0, I0, theta0), (t1, z1, I1, theta1) = start, end
         if not hasattr(self, "heat"):
             self.heat = {el.name: 0.0 for el in net.switched}
+        # int theta dt over the stretch: theta0 throughout, each rebase's step from its time on
+        theta_int = theta0 * (t1 - t0)
+        for when, step in rebases:
+            theta_int = theta_int + step * (t1 - when)
         for el, state in zip(net.switched, taut[ns:]):
             sign = getattr(el, "slip_sign", lambda s: 0)(state)
             if not sign:
                 continue
             a, c = el.torque_piece(t_mid)
             g = el.row(net)
-            phi0, phi1 = g @ (z0[:n] * self.S[:n]), g @ (z1[:n] * self.S[:n])
+            along = self.rigid[:, :n] @ g if self.theta.size else np.zeros(0)
+            phi0 = g @ (z0[:n] * self.S[:n]) + along @ theta0
+            phi1 = g @ (z1[:n] * self.S[:n]) + along @ theta1
             work = (a + c * t1) * phi1 - (a + c * t0) * phi0
             if c:
-                work -= c * (g @ ((I1 - I0)[:n] * self.S[:n]))
+                work -= c * (g @ ((I1 - I0)[:n] * self.S[:n]) + along @ theta_int)
             self.heat[el.name] += sign * work
 
     def _log(self, t: float, before, after) -> None:

@@ -76,6 +76,11 @@ class Switched(Element):
     def state_of(self, net, t, X) -> np.ndarray:
         return np.zeros(np.shape(t), dtype=np.int64)
 
+    def slip_sign(self, state: int) -> int:
+        """+1 slipping forward, -1 backward, 0 otherwise: a friction element's torque sign
+        while it turns work into heat (the run's slip heat); 0 for other kinds."""
+        return 0
+
     @property
     def default(self) -> int:
         return 0

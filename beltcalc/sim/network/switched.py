@@ -321,6 +321,7 @@ class SwitchedModes:
         import dataclasses
 
         from beltcalc.sim.elements import Coupling, Gear, Load, Prescribed
+        from beltcalc.sim.elements.switched import Friction
 
         pattern = self.full_pattern(pattern)
         ns = len(self.strands)
@@ -331,7 +332,7 @@ class SwitchedModes:
             state = by_el.get(id(el))
             if state is None:
                 elements.append(el)
-            elif hasattr(el, "slip_sign"):
+            elif isinstance(el, Friction):
                 if state == el.STUCK and el.j is not None:
                     elements.append(Gear(el.i, el.j, el.U, name=el.name))
                 elif state == el.STUCK and el.i not in held:

@@ -153,6 +153,7 @@ def switched_sections(net, result, limits: Mapping[str, tuple[float, str]]) -> l
     (``limits[name] = (N m, what)``); each limited drive's time in range, at its limit and
     held there, and its mode changes."""
     from beltcalc.report import Row
+    from beltcalc.sim.elements.switched import Friction
 
     history = result.extra.get("switched")
     if not history:
@@ -160,7 +161,7 @@ def switched_sections(net, result, limits: Mapping[str, tuple[float, str]]) -> l
     out, rated = [], []
     for el in net.switched:
         spent, changes = history["time"][el.name], float(history["switches"][el.name])
-        if hasattr(el, "slip_sign"):
+        if isinstance(el, Friction):
             signal = f"T_{el.name}"
             peak = float(np.max(np.abs(result.signals[signal]))) if signal in result.signals else 0.0
             rows = [Row("time_stuck", "time stuck", float(spent["stuck"]), "s"),

@@ -491,7 +491,7 @@ class Run(Outputs):
         for when, step in rebases:
             theta_int = theta_int + step * (t1 - when)
         for el, state in zip(net.switched, taut[ns:]):
-            sign = getattr(el, "slip_sign", lambda s: 0)(state)
+            sign = el.slip_sign(state)
             if not sign:
                 continue
             a, c = el.torque_piece(t_mid)

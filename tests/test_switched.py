@@ -348,3 +348,14 @@ def test_hundreds_of_stick_slip_switches_match_radau_with_events_through_the_cli
     assert report["time_stuck"]["value"] == pytest.approx(ref.extra["switched"]["time"]["bearing"]["stuck"],
                                                           rel=0, abs=1e-7)
     assert out["error_relative"]["value"] <= 1e-9
+
+
+def test_friction_on_a_prescribed_node_alone_is_refused_in_one_line(tmp_path):
+    from pathlib import Path
+
+    text = (Path(__file__).parent / "data" / "clutch_flywheel.toml").read_text()
+    bad = tmp_path / "brake_on_line.toml"
+    bad.write_text(text.replace("[[clutch]]", '[[brake]]\nname = "hold"\nnode = "input"\ntorque = "5 N*m"\n\n[[clutch]]'))
+    res, _ = _cli(str(bad))
+    assert res.exit_code == 1
+    assert "hold" in res.output and "prescribed" in res.output and len(res.output.strip().splitlines()) == 1

@@ -142,6 +142,11 @@ class Friction(Switched):
         if not self.row(net).any():
             raise InputError(f"friction {self.name} joins {self.i} to nodes geared rigidly to it: it can never "
                              "slip", param="network")
+        ends = [e for e in (self.i, self.j) if e is not None]
+        if all(net.coord(e)[0] in net.fixed for e in ends):
+            raise InputError(f"friction {self.name} acts only on {' and '.join(ends)}, whose motion is prescribed: "
+                             "it cannot change that motion; leave it out (the drive's torque is what moves the "
+                             "node)", param="network")
 
     def row(self, net) -> np.ndarray:
         """g over the coordinates with phi_rel = g . q."""

@@ -94,7 +94,7 @@ def _named_modes(net, given) -> dict[str, str]:
 
 def _with_mode(d, obj: dict) -> dict:
     """The JSON object with the drive's mode (where it has elements with modes) after its file."""
-    if not getattr(d, "mode", None):
+    if not d.mode:
         return obj
     out = {}
     for key, value in obj.items():
@@ -106,7 +106,7 @@ def _with_mode(d, obj: dict) -> dict:
 
 
 def _mode_note(d) -> None:
-    if getattr(d, "mode", None):
+    if d.mode:
         console().print(f"in the mode: {d.mode}", markup=False, highlight=False, soft_wrap=True)
 
 

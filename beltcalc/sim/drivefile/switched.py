@@ -55,6 +55,13 @@ def _torques(b, e: Entry) -> tuple[float, float]:
     return torque, mu_s / mu if mu > 0 else 1.0
 
 
+def _reported(b, e: Entry) -> None:
+    """A clutch's or brake's torque in the report, against its rating where the file gives one."""
+    b.torques.append((f"T_{e.name}", e.name))
+    if b.get(e, "rating") is not None:
+        b.limits[e.name] = (b.get(e, "rating"), "rating")
+
+
 CLUTCH_KEYS = {
     "torque": Quantity(TORQUE, help="slipping torque (a torque limiter's set torque); or mu, normal_force, radius",
                        low=">=0"),
@@ -95,9 +102,7 @@ class ClutchKind(Kind):
         torque, static = _torques(b, e)
         b.add(Friction(e.name, a, c, _schedule(b, e, torque), static, 0.0, b.get(e, "ratio", 1.0),
                        bool(b.get(e, "one_way", False))))
-        b.torques.append((f"T_{e.name}", e.name))
-        if b.get(e, "rating") is not None:
-            b.limits[e.name] = (b.get(e, "rating"), "rating")
+        _reported(b, e)
 
 
 class BrakeKind(Kind):
@@ -121,9 +126,7 @@ class BrakeKind(Kind):
         node = b.node_name(e, "node")
         torque, static = _torques(b, e)
         b.add(Friction(e.name, node, None, _schedule(b, e, torque), static))
-        b.torques.append((f"T_{e.name}", e.name))
-        if b.get(e, "rating") is not None:
-            b.limits[e.name] = (b.get(e, "rating"), "rating")
+        _reported(b, e)
 
 
 class FrictionKind(Kind):

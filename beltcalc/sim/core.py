@@ -19,13 +19,21 @@
 - ``odeint``: scipy's older LSODA wrapper with ``Dfun``, on the raw right-hand side (each
   strand taut or slack by its own state, no events): fast on smooth networks, and the
   trap the design warns of on switching ones, where the call budget stops it.
-- ``auto``: ``exact`` where the network allows it, else ``radau``; the result says why.
+- ``auto``: ``exact`` where the network allows it; a nonlinear network without switches that
+  is not stiff (an explicit method is stable in at most ``EXPLICIT_STEPS`` steps, its fastest
+  pole from the Jacobian at rest [HW96 sec. IV.2]) ``dop853``; else ``radau``; the result says why.
 
 Every run carries an error estimate per speed signal, in the signal's own unit, from a
 second computation that shares neither the rounding nor the partition of the first (see
 :func:`simulate`), plus a conditioning term. An estimate above the tolerance
 (``error_tol`` of the signal's scale) makes ``auto`` refine, then fall back to Radau with
 events; if nothing reaches it the run fails with one line, unless ``accept_error``.
+
+References:
+
+[HW96] E. Hairer, G. Wanner, Solving Ordinary Differential Equations II: Stiff and
+    Differential-Algebraic Problems, 2nd ed., Springer (1996): the stability domains of the
+    explicit Dormand-Prince methods [HW96 sec. IV.2].
 """
 
 from __future__ import annotations
@@ -47,6 +55,7 @@ __all__ = ["SolverConfig", "simulate", "choose_method", "conditioning", "estimat
 MAX_PHASE = 1e-3 / EPS  # rad: an input's phase w t_end beyond which a float holds it to worse than 1 mrad
 
 FALLBACK_SECONDS = 30.0     # computing time auto's Radau fallback may take
+EXPLICIT_STEPS = 2e4        # stable explicit steps up to which auto runs a nonlinear network on DOP853
 RADAU_FALLBACK_WORK = 2e6   # strand events x states^2 above which auto's Radau fallback is not tried
 REFINE_WORK = 1e10          # strand events x states^2 above which auto does not refine the exact run (4x its
                             # cost: 200 rollers, 14,300 events x 1,605 states, would take 10 minutes more)
@@ -178,8 +187,22 @@ def run_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig
     return x, t.size - 1, 0, {}
 
 
-def choose_method(network: Network, requested: str) -> tuple[str, str]:
-    """The method to run and why."""
+def explicit_steps(network: Network, t_end: float) -> float:
+    """The fewest steps an explicit method (DOP853) takes over ``t_end`` [s] for stability:
+    the linear part's spectral radius (its fastest pole, the nonlinear terms' Jacobian at
+    rest included) times ``t_end`` over the stability bound of DOP853, about 3.3 on the
+    negative real axis [HW96 sec. IV.2]."""
+    A, _ = network.first_order(None, 0.0)
+    if not network.linear:
+        A = A + network.nonlinear_jacobian(network.initial_state())
+    radius = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
+    return radius * t_end / 3.3
+
+
+def choose_method(network: Network, requested: str, t_end: float | None = None) -> tuple[str, str]:
+    """The method to run and why. A nonlinear network that is not stiff over ``t_end``
+    (an explicit method needs at most :data:`EXPLICIT_STEPS` steps for stability) runs on
+    DOP853, else on Radau."""
     if requested == "auto":
         if network.linear and network.smooth:
             return "exact", "auto: the network is linear with inputs in time, so its exact solution is used"
@@ -188,6 +211,11 @@ def choose_method(network: Network, requested: str) -> tuple[str, str]:
                              "is propagated exactly and each switch is located on the exact solution")
         why = sorted({getattr(el, "nonlinear_reason", "loads locked to a shaft angle")
                       for el in network.elements if el.nonlinear_kind})
+        if t_end is not None and not network.strands and not network.switched:
+            steps = explicit_steps(network, t_end)
+            if steps <= EXPLICIT_STEPS:
+                return "dop853", (f"auto: {'; '.join(why)}: the network is nonlinear and not stiff (stable explicit "
+                                  f"steps from {steps:.3g}), so DOP853 (explicit, order 8)")
         return "radau", (f"auto: {'; '.join(why)}: the network is nonlinear; implicit Radau with the analytic "
                          "Jacobian")
     if requested not in METHODS:
@@ -221,7 +249,14 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
             raise InputError(f"an input at {abs(w):.4g} rad/s turns {abs(w) * t_end:.3g} rad over the run: beyond "
                              f"{MAX_PHASE:.2g} rad a float cannot hold its phase to a milliradian; lower its "
                              "frequency or `t_end`")
-    method, reason = choose_method(network, cfg.method)
+    method, reason = choose_method(network, cfg.method, t_end)
+    if cfg.method == "auto" and method == "dop853" and cfg.rtol > cfg.error_tol * 1e-4:
+        # an elastic force is a difference of positions times a stiffness: its relative error runs
+        # about 100 times the speeds' (the carriage belt: 40x), so the explicit run starts 1e-4 below
+        from dataclasses import replace
+
+        cfg = replace(cfg, rtol=max(1e-13, cfg.error_tol * 1e-4), atol=min(cfg.atol, cfg.error_tol * 1e-6))
+        reason += f", at rtol {cfg.rtol:g} (1e-4 of the error tolerance)"
     x0 = _initial(network, x0)
     t = np.linspace(0.0, t_end, samples)
     second = None
@@ -272,6 +307,17 @@ def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = S
             tried.append(f"radau ({radau.error_relative:.1g})")
             if radau.error_relative <= cfg.error_tol:
                 return radau
+        result = fine
+    elif result.error_relative > cfg.error_tol and cfg.method == "auto" and method == "dop853" \
+            and cfg.rtol > 1e-12:
+        # auto's explicit run: once more at 1/100 of the tolerances (its own estimate at 1/10^4)
+        from dataclasses import replace
+
+        tight = replace(cfg, rtol=max(1e-13, cfg.rtol / 100), atol=max(1e-16, cfg.atol / 100))
+        fine = _run(network, t, x0, tight, "dop853", reason + f"; at rtol {tight.rtol:g}: the estimate at "
+                    f"{cfg.rtol:g} exceeded the tolerance")
+        estimate_error(fine, network, x0, tight)
+        tried.append(f"dop853 at rtol {tight.rtol:g} ({fine.error_relative:.1g})")
         result = fine
     if result.error_relative > cfg.error_tol:
         message = (f"error estimate {result.error_estimate:.3g} {result.error_unit} on {result.error_signal} "
@@ -377,6 +423,7 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
     speeds = result.states[n:2 * n]
     full = None                                 # the second computation's every state (scipy's methods)
     idx = None                                  # the samples compared (None: every one)
+    widen = 1.0                                 # the difference times this is the estimate
     other = None                                # the second computation as a result (watched runs)
     if reference is not None:
         other, label = reference
@@ -399,21 +446,26 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
         ref = full[n:2 * n]
         label = "exact solution"
     else:
-        tight = SolverConfig("radau", cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, cfg.max_events, False)
+        # the same explicit method (not stiff: it ran) or Radau, at 1/100 of the tolerances
+        second = method if method in ("dop853", "rk45") else "radau"
+        tight = SolverConfig(second, cfg.rtol / 100, cfg.atol / 100, cfg.max_rhs_calls, cfg.max_events, False)
         try:
-            full = METHODS["radau"].run(network, t, x0, tight)[0]
+            full = METHODS[second].run(network, t, x0, tight)[0]
             ref = full[n:2 * n]
         except SimulationError as e:
-            raise SimulationError(f"the error estimate's second computation (radau at 1/100 of the tolerances, "
+            raise SimulationError(f"the error estimate's second computation ({second} at 1/100 of the tolerances, "
                                   f"rtol {tight.rtol:.2g}): {e}") from None
-        label = "radau at 1/100 of the tolerances"
+        label = f"{second} at 1/100 of the tolerances"
+        # the difference is the first run's error less the second's own, at most a tenth of it
+        # (tolerance proportionality, 100^(p/(p+1)) for order p >= 3): widen by that tenth
+        widen = 1.1
     names = network.state_names()
     result.extra["error_tol"] = cfg.error_tol
     floor = conditioning(network, float(t[-1])) if network.linear else 0.0
     scales: dict[str, float] = {}
     peak = np.maximum(speeds.max(axis=1), -speeds.min(axis=1))    # max |speed| per row, no temporary
     diff = (speeds if idx is None else speeds[:, idx]) - ref
-    apart = np.maximum(diff.max(axis=1), -diff.min(axis=1))
+    apart = np.maximum(diff.max(axis=1), -diff.min(axis=1)) * widen
     for k in range(n, 2 * n):
         name, unit = names[k]
         scales[unit] = max(scales.get(unit, 0.0), float(peak[k - n]))
@@ -426,7 +478,7 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
         if worst is None or rel > worst[0]:
             worst = (rel, k, name, unit, scale)
     if full is not None:
-        worst = _elastic_errors(result, network, full, floor, errors, worst)
+        worst = _elastic_errors(result, network, full, floor, errors, worst, widen)
     result.errors = errors
     rel, row, signal, unit, scale = worst[:5]
     result.error_relative, result.error_row, result.error_signal = float(rel), row, signal
@@ -440,18 +492,26 @@ def estimate_error(result: SimResult, network: Network, x0: np.ndarray, cfg: Sol
 
 
 def _elastic_errors(result: SimResult, network: Network, full: np.ndarray, floor: float, errors: dict,
-                    worst: tuple) -> tuple:
+                    worst: tuple, widen: float = 1.0) -> tuple:
     """A scipy run's torques and forces judged as its speeds are: every coupling torque and
     strand force of the result against the same output of the second computation's states
-    ``full``, relative to the largest |value| of its unit. A torque is a difference of two
+    ``full`` (their differences times ``widen``), relative to the largest |value| of its unit; a
+    nonlinear element's torques and forces too (``T_``/``F_`` outputs). A torque is a difference of two
     angles times a stiffness, so its relative error can be far above the speeds' (the sewing
     drive's T_23 with the eccentric roller: 4x); the error of what the run prints is the larger.
     Returns the worst (relative, row, name, unit, scale[, time]) so far."""
     t = result.t
-    mine = {**{f"T_{k}": v for k, v in network.coupling_torques(result.states).items()},
-            **{f"F_{k}": v for k, v in network.strand_forces(t, result.states).items()}}
-    theirs = {**{f"T_{k}": v for k, v in network.coupling_torques(full).items()},
-              **{f"F_{k}": v for k, v in network.strand_forces(t, full).items()}}
+
+    def elastic(X):
+        out = {**{f"T_{k}": v for k, v in network.coupling_torques(X).items()},
+               **{f"F_{k}": v for k, v in network.strand_forces(t, X).items()}}
+        for el in network.elements:         # a nonlinear element's torques and forces (a carriage belt's)
+            if el.nonlinear_kind:
+                out.update({k: v for k, (v, unit) in el.outputs(network, t, X, None).items()
+                            if k[:2] in ("T_", "F_") and unit in ("N", "N m")})
+        return out
+
+    mine, theirs = elastic(result.states), elastic(full)
     scales: dict[str, float] = {}
     for name, y in mine.items():
         unit = result.units.get(name, "N*m" if name.startswith("T_") else "N")
@@ -459,7 +519,7 @@ def _elastic_errors(result: SimResult, network: Network, full: np.ndarray, floor
     for name, y in mine.items():
         unit = result.units.get(name, "N*m" if name.startswith("T_") else "N")
         scale = scales[unit] if scales[unit] > 0 else 1.0
-        d = np.abs(y - theirs[name])
+        d = np.abs(y - theirs[name]) * widen
         errors[name] = float(d.max()) + floor * scale
         if errors[name] / scale > worst[0]:
             worst = (errors[name] / scale, worst[1], name, unit, scale, float(t[int(np.argmax(d))]))

@@ -67,6 +67,9 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("OEM99", "Papers the models come from",
            'M. Otter, H. Elmqvist, S. E. Mattsson, "Hybrid modeling in Modelica based on the synchronous data '
            'flow principle", Proc. IEEE CACSD (1999) 151-157'),
+    Source("HW96", "Textbooks",
+           "E. Hairer, G. Wanner, Solving Ordinary Differential Equations II: Stiff and Differential-Algebraic "
+           "Problems, 2nd ed., Springer (1996)"),
     Source("BM08", "Textbooks",
            "L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots, Springer (2008)"),
     Source("ISO 606", "Standards",

@@ -10,7 +10,7 @@ their pitch radii and add to their inertias), then each section's entries as the
 them.
 
 >>> SECTIONS
-('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load', 'damper', 'clutch', 'brake', 'friction', 'backlash')
+('drive', 'node', 'coupling', 'shaft', 'gear', 'belt_span', 'chain_strand', 'motor', 'load', 'damper', 'clutch', 'brake', 'friction', 'backlash', 'carriage_belt')
 >>> KINDS
 ('induction', 'prescribed', 'speed_loop', 'torque')
 """
@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from beltcalc.data.schema import Field
 from beltcalc.sim.drivefile.backlash import BacklashKind
+from beltcalc.sim.drivefile.carriage import CarriageBeltKind
 from beltcalc.sim.drivefile.kinds import (BeltSpanKind, ChainStrandKind, CouplingKind, DamperKind, GearKind, Head, Kind,
                                           LoadKind, NodeKind, ShaftKind)
 from beltcalc.sim.drivefile.motors import MotorKind
@@ -39,6 +40,7 @@ ELEMENTS: dict[str, type[Kind]] = {kind.section: kind for kind in (
     BrakeKind,
     FrictionKind,
     BacklashKind,
+    CarriageBeltKind,
 )}
 
 # Views of the registry for readers of the format (the reader and the builder ask ELEMENTS

@@ -48,6 +48,8 @@ from beltcalc.design.axis_inputs import PARAMS as AXIS_PARAMS
 
 DRIVES = ("prescribed", "speed-loop")
 BELT_MODELS = ("substitute", "chain")
+SPANS = ("paper", "moving")
+CYCLES = ("one-way", "out-and-back")
 PARAMS = AXIS_PARAMS + [
     Param("thread", None, "Tensioner bolt thread (for the pretension, as `beltcalc tension`)."),
     Param("tension_accel", "m/s^2", "Acceleration of the tensioning motion."),
@@ -57,6 +59,12 @@ PARAMS = AXIS_PARAMS + [
     Param("drive", None, "prescribed (ideal servo) or speed-loop (feed-forward + speed_gain)."),
     Param("speed_gain", "N*m*s/rad", "Proportional speed-loop gain."),
     Param("belt_model", None, "substitute (eq. 5-9) or chain (eq. 1, z - 1 units)."),
+    Param("spans", None, "paper (one span k_TB = C_spec / a, held) or moving (both spans, their lengths "
+          "following the carriage: k = C_spec / L1 + C_spec / L2).", required=False),
+    Param("start", "m", "Span 1 (drive pulley to carriage) at the move's start (default: the stroke centred "
+          "on the axis).", required=False),
+    Param("cycle", None, "one-way (one move, then after_move) or out-and-back (the move, a dwell, the move "
+          "back, a dwell: settling at both ends).", required=False),
     Param("after_move", "s", "Simulated time after the move."),
     Param("step", "s", "Output step."),
     Param("settle_band", "m", "Following-error band for the settling time."),
@@ -90,6 +98,23 @@ class AxisModel:
     drive: str = "prescribed"
     speed_gain: float = 0.0     # N m s/rad
     belt_model: str = "substitute"
+    spans: str = "paper"
+    center_distance: float = 0.0   # m, a
+    start: float = 0.0             # m, span 1 at the move's start (drive pulley to carriage)
+    cycle: str = "one-way"
+
+    @property
+    def travel(self) -> float:
+        """The carriage's travel of one move [m]."""
+        t0, t1, _ = moves(self)[0]
+        return sum(ph.angle for ph, start in zip(self.profile.phases, phase_starts(self)) if t0 <= start < t1) \
+            * self.lever
+
+    @property
+    def return_start(self) -> float:
+        """Span 2 (carriage round the idler back to the drive pulley) at the move's start [m]:
+        L2 = 2 a - L1 + pi D / 2 (:func:`span_stiffness`)."""
+        return 2 * self.center_distance - self.start + math.pi * self.axis.pulley_diameter / 2
 
     @property
     def lever(self) -> float:
@@ -117,7 +142,20 @@ class AxisModel:
 
     def check(self) -> None:
         """Refuse a drive or belt model that does not exist, and negative stiffness, damping or gain."""
-        with scene_values(("drive", "belt_model", "damping", "speed_gain")):
+        with scene_values(("drive", "belt_model", "damping", "speed_gain", "spans", "start", "cycle")):
+            if self.spans not in SPANS:
+                raise InputError(f"{self.spans!r} is not a span model; use one of {', '.join(SPANS)}", param="spans")
+            if self.cycle not in CYCLES:
+                raise InputError(f"{self.cycle!r} is not a cycle; use one of {', '.join(CYCLES)}", param="cycle")
+            if self.spans == "moving":
+                if self.belt_model != "substitute":
+                    raise InputError("moving spans take the substitute belt (belt_model substitute)",
+                                     param="spans")
+                end = self.start + self.travel
+                if not (0 < self.start < self.center_distance and 0 < end < self.center_distance):
+                    raise InputError(f"the carriage would run from {self.start * 1e3:g} mm to {end * 1e3:g} mm of the "
+                                     f"drive pulley: both must lie within the centre distance "
+                                     f"{self.center_distance * 1e3:g} mm (lower start or stroke)", param="start")
             if self.drive not in DRIVES:
                 raise InputError(f"{self.drive!r} is not a drive; use one of {', '.join(DRIVES)}", param="drive")
             if self.belt_model not in BELT_MODELS:
@@ -148,15 +186,45 @@ def reference_tables(model: AxisModel) -> tuple[tuple, tuple, tuple]:
         t += ph.duration
     accel.append((t, 0.0))
     torque = []
-    for p in model.duty.pieces:
-        torque += [(p.start, poly_value(p.torque, 0.0)), (p.start + p.duration, poly_value(p.torque, p.duration))]
+    for start, _, sign in moves(model):
+        # the way back is the way out negated: the rigid torque of a horizontal axis is odd in the
+        # motion (inertia, viscous and Coulomb friction all reverse with it)
+        for p in model.duty.pieces:
+            torque += [(start + p.start, sign * poly_value(p.torque, 0.0)),
+                       (start + p.start + p.duration, sign * poly_value(p.torque, p.duration))]
     torque.append((t, 0.0))
     return tuple(accel), tuple(speed), tuple(torque)
 
 
+def phase_starts(model: AxisModel) -> list[float]:
+    """The start time of each phase of the profile [s]."""
+    out, t = [], 0.0
+    for ph in model.profile.phases:
+        out.append(t)
+        t += ph.duration
+    return out
+
+
+def moves(model: AxisModel) -> list[tuple[float, float, float]]:
+    """(start, end, direction +-1) of each move of the profile [s]: the runs of phases between
+    its dwells (one move; out and back: two)."""
+    out: list[tuple[float, float, float]] = []
+    run = None
+    for ph, start in zip(model.profile.phases, phase_starts(model)):
+        if ph.name.endswith("dwell"):
+            run = None
+            continue
+        if run is None:
+            run = [start, start + ph.duration, -1.0 if ph.name.startswith("back ") else 1.0]
+            out.append(run)
+        else:
+            run[1] = start + ph.duration
+    return [tuple(m) for m in out]
+
+
 def move_time(model: AxisModel) -> float:
-    """End of the move (before the dwell) [s]."""
-    return sum(ph.duration for ph in model.profile.phases if ph.name != "dwell")
+    """End of the (first) move [s]."""
+    return moves(model)[0][1]
 
 
 def reference_position(model: AxisModel, t: np.ndarray) -> np.ndarray:
@@ -186,12 +254,21 @@ def drive_data(model: AxisModel, substitute_mass: float | None = None, stiffness
     b = model.damping
     nodes = [dict(name="motor", inertia=model.rotating_inertia)]
     couplings = [dict(name="bearings", between=["motor"], stiffness=0.0, damping=model.rotating_damping)]
+    belts: list[dict] = []
     if model.belt_model == "substitute":
         m_tb = ax.substitute_mass if substitute_mass is None else substitute_mass
         nodes.append(dict(name="carriage", mass=ax.mass + m_tb))
-        # C (phi - U x) with C = k lever^2, U = 1 / lever: the torque lever * F
-        couplings.append(dict(name="belt", between=["motor", "carriage"], stiffness=k * lever ** 2,
-                              damping=b * lever ** 2, ratio=1.0 / lever))
+        if model.spans == "moving":
+            # both spans, following the carriage: k = C_spec (1/L1 + 1/L2), C_spec = k_TB a, b_spec = b_TB a
+            a = model.center_distance
+            nodes[0]["pitch_diameter"] = 2 * lever
+            belts.append(dict(name="belt", pulley="motor", carriage="carriage", specific_stiffness=k * a,
+                              specific_damping=b * a, span=model.start, return_span=model.return_start,
+                              stroke=model.travel))
+        else:
+            # C (phi - U x) with C = k lever^2, U = 1 / lever: the torque lever * F
+            couplings.append(dict(name="belt", between=["motor", "carriage"], stiffness=k * lever ** 2,
+                                  damping=b * lever ** 2, ratio=1.0 / lever))
     else:
         n = model.chain_units
         unit_mass = model.belt_mass / n
@@ -205,18 +282,20 @@ def drive_data(model: AxisModel, substitute_mass: float | None = None, stiffness
                       for a, c in zip(names, names[1:])]
     if ax.guide_damping:
         couplings.append(dict(name="guide", between=["carriage"], stiffness=0.0, damping=ax.guide_damping))
-    t_move = move_time(model)
     resist = ax.resistance_torque / lever       # F_R + mu m g, against the move
-    loads = [dict(name="resistance", node="carriage", table=[[0.0, resist], [t_move, resist], [t_move, 0.0]])
-             ] if resist else []
+    table = []
+    for t0, t1, sign in moves(model):
+        table += [[t0, 0.0], [t0, sign * resist], [t1, sign * resist], [t1, 0.0]]
+    loads = [dict(name="resistance", node="carriage", table=table[1:])] if resist else []
     accel, speed, torque = reference_tables(model)
     if model.drive == "prescribed":
         motor = dict(name="servo", kind="prescribed", node="motor", speed=0.0, accel=[list(p) for p in accel])
     else:
         motor = dict(name="servo", kind="speed_loop", node="motor", gain=model.speed_gain,
                      reference=[list(p) for p in speed], feedforward=[list(p) for p in torque])
-    return {"drive": {"title": "Timing-belt linear axis (Wojtkowiak et al. 2021, WDU axis)", "t_end": t_move},
-            "node": nodes, "coupling": couplings, "motor": [motor], "load": loads}
+    return {"drive": {"title": "Timing-belt linear axis (Wojtkowiak et al. 2021, WDU axis)", "t_end": moves(model)[-1][1]},
+            "node": nodes, "coupling": couplings, "motor": [motor], "load": loads,
+            **({"carriage_belt": belts} if belts else {})}
 
 
 def build(model: AxisModel, substitute_mass: float | None = None, stiffness: float | None = None) -> Network:
@@ -269,7 +348,8 @@ def span_stiffness(specific_stiffness: float, center_distance: float, pulley_dia
 
 
 def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "prescribed",
-            speed_gain: float = 0.0, belt_model: str = "substitute", opts=None):
+            speed_gain: float = 0.0, belt_model: str = "substitute", opts=None, spans: str = "paper",
+            start: float | None = None, cycle: str = "one-way"):
     """From the designer's data to the model: ``motor-size`` (the rigid axis, the move, the
     motor and its rigid duty) and ``tension`` (k_TB, b_TB and the pretension F_t,peak).
 
@@ -277,8 +357,9 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     :class:`beltcalc.design.sizing.DutyOptions` of the move (S-curve ``jerk``, ``move_time``;
     None: the trapezoid; a cycle, an incline or a gearbox efficiency are not simulated);
     ``tension_inputs``: :class:`beltcalc.design.tension.TensionInputs` (its mass, width, centre
-    distance and pulley diameter are taken from the axis). Returns (AxisModel, CycleSizing,
-    TensionReport).
+    distance and pulley diameter are taken from the axis); ``spans``, ``start`` (None: the stroke
+    centred on the axis) and ``cycle`` as :class:`AxisModel`'s. Returns (AxisModel,
+    CycleSizing, TensionReport).
     """
     from beltcalc.formulas.drive import motor_damping
     from beltcalc.design.sizing import DutyOptions, size_cycle
@@ -295,8 +376,13 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     check = sizing.shown
     move = sizing.first_move.profile
     dwell = sum(g.time for g in sizing.segments if g.kind == "dwell")
-    phases = tuple(ph for ph in move.phases if ph.name != "dwell") + ((Phase("dwell", dwell, 0.0, 0.0),)
-                                                                      if dwell > 0 else ())
+    out = tuple(ph for ph in move.phases if ph.name != "dwell")
+    stop = (Phase("dwell", dwell, 0.0, 0.0),) if dwell > 0 else ()
+    phases = out + stop
+    if cycle == "out-and-back":
+        # the move back: the move out negated, then the dwell again
+        phases += tuple(Phase("back " + ph.name, ph.duration, -ph.speed0, -ph.accel, -ph.jerk) for ph in out) \
+            + (Phase("back dwell", dwell, 0.0, 0.0),) * bool(stop)
     profile = replace(move, dwell=dwell, phases=phases)
     # a_max of the rigidity condition [W21 eq. 11]: the largest acceleration the move reaches
     accel = max(max(abs(ph.accel), abs(ph.accel1)) for ph in phases) * sizing.axis.carriage_per_motor()
@@ -309,7 +395,8 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
         axis=sizing.axis, profile=profile, duty=check.duty, motor_inertia=check.motor.J,
         motor_damping=motor_damping(eta, check.motor.T_n, check.motor.n_rated),
         stiffness=report.stiffness, damping=report.damping, belt_mass=report.belt_mass, teeth=report.teeth,
-        drive=drive, speed_gain=speed_gain, belt_model=belt_model,
+        drive=drive, speed_gain=speed_gain, belt_model=belt_model, spans=spans, center_distance=inp.center_distance,
+        start=(inp.center_distance - inp.stroke) / 2 if start is None else start, cycle=cycle,
     )
     model.check()
     return model, sizing, report
@@ -345,17 +432,18 @@ def prepare_scene(values: dict, substitute_mass_model: str = "eq7", motor: str |
                         tension_accel=values["tension_accel"], tension_speed=values["tension_speed"],
                         mu=values["mu"], pulley_diameter=1.0, damping=values.get("damping"))
     opts = move_options(values)
-    with scene_values(("drive", "jerk", "move_time", "accel_fraction", "jerk_fraction")):
+    with scene_values(("drive", "jerk", "move_time", "accel_fraction", "jerk_fraction", "spans", "start", "cycle")):
         return prepare(inp, cat.belt(values["belt"]), list(cat.motors.values()), cat.motor(motor) if motor else None,
                        tin, cat.thread(values["thread"]), values["drive"], values["speed_gain"], values["belt_model"],
-                       opts)
+                       opts, values.get("spans") or "paper", values.get("start"), values.get("cycle") or "one-way")
 
 
 def timing(values: dict, model: AxisModel) -> tuple[float, int]:
-    """(t_end, samples) of a run: the move, then ``after_move``, sampled every ``step``."""
+    """(t_end, samples) of a run: the move (out and back: to the end of the move back), then
+    ``after_move``, sampled every ``step``."""
     require_positive("after_move", values["after_move"], "s")
     require_positive("step", values["step"], "s")
-    t_end = move_time(model) + values["after_move"]
+    t_end = moves(model)[-1][1] + values["after_move"]
     samples = int(round(t_end / values["step"])) + 1
     if samples > 10_000_000:
         raise InputError(f"{samples} samples; at most 10,000,000: raise the step", param="step")
@@ -391,40 +479,117 @@ def build_scene(values: dict, **options) -> Network:
     return build(prepare_scene(values, **options)[0])
 
 
+@dataclass(frozen=True)
+class Stop:
+    """The carriage at the end of one move: ``where`` (words), the move's end ``t_end`` and the
+    end of the stop ``until`` [s] (the next move's start, or the run's end), the largest
+    following error during the move and the residual vibration's amplitude (half its
+    peak-to-peak) over the stop [m], the time from the move's end until the following error
+    stays within the band of its rest value to ``until`` (``settle`` [s], None: it does not),
+    and that rest value ``rest`` [m] (the motor's own position error, where the belt carries
+    no force: 0 under an ideal servo)."""
+
+    where: str
+    t_end: float
+    until: float
+    following_max: float
+    residual: float
+    settle: float | None
+    rest: float
+
+
+def stop_figures(model: AxisModel, result, band: float) -> list[Stop]:
+    """Each move's following error and its stop's residual vibration and settling time (off
+    the output samples: the settling time to the output step)."""
+    error = result.signals["following_error"]
+    # the motor's own position error: the carriage rests there when the belt carries no force
+    motor_error = result["phi_motor"] * model.lever - reference_position(model, result.t)
+    runs = moves(model)
+    t_last = float(result.t[-1])
+    out = []
+    for k, (t0, t1, sign) in enumerate(runs):
+        until = runs[k + 1][0] if k + 1 < len(runs) else t_last
+        during, after = result.window(t0, t1), result.window(t1, until)
+        rest = float(motor_error[after][-1])
+        settle = result.settle_time("following_error", rest, band, t1, until)
+        where = "at the end of the stroke" if sign > 0 else "back at the start"
+        out.append(Stop(where, t1, until, float(np.abs(error[during]).max()),
+                        0.5 * float(error[after].max() - error[after].min()),
+                        None if settle is None else settle - t1, rest))
+    return out
+
+
+def stop_rows(stops: list[Stop], band: float) -> list[Row]:
+    """The carriage's rows: per move, the following error, the residual vibration and the
+    settling time into ``band`` [m] (the first move's rows keep their one-move keys)."""
+    rows = []
+    for k, st in enumerate(stops):
+        tag, label = ("", "the move") if k == 0 else ("_back", "the move back")
+        rows += [
+            Row(f"following_error_max{tag}", f"following error, max during {label}", st.following_max, "m", "mm"),
+            Row(f"residual_amplitude{tag}", f"residual vibration after {label}, amplitude", st.residual, "m", "mm",
+                note=f"carriage {st.where}, to t = {st.until:.6g} s"),
+            Row(f"settling_time{tag}", f"settling time after {label} (band {band * 1e3:g} mm)", st.settle, "s",
+                note="not within the stop" if st.settle is None else ""),
+        ]
+    return rows
+
+
+def extremes(net: Network, model: AxisModel, result, t_end: float, cycle_time: float):
+    """(motor torque, belt force, how) as :class:`~beltcalc.sim.watch.pieces.ExactSignal`:
+    off the exact solution on a linear network (both limits at every phase end); off the
+    output samples on a nonlinear one (moving spans), ``how`` saying so and how far a sample
+    may be from the extreme (a step times the largest rate seen)."""
+    from beltcalc.sim.watch.pieces import ExactSignal, coupling_row, drive_torque_row, exact_signals
+
+    rms_end = cycle_time if t_end >= cycle_time - 1e-12 else None
+    if net.linear:
+        exact = exact_signals(net, {"torque": lambda tm: drive_torque_row(net, "motor", tm),
+                                    "force": lambda tm: coupling_row(net, "belt", 1.0 / model.lever)},
+                              t_end, cuts=tuple(t for m in moves(model) for t in m[:2] if t > 0),
+                              rms_end=rms_end)
+        return exact["torque"], exact["force"], ""
+    t = result.t
+    step = float(t[1] - t[0])
+    out = []
+    for name in ("T_drive_motor", "F_belt"):
+        y = np.asarray(result.signals[name], dtype=float)
+        hi, lo = int(np.argmax(y)), int(np.argmin(y))
+        square = None
+        if rms_end is not None:
+            inside = t <= rms_end + 1e-12
+            square = float(np.trapezoid(y[inside] ** 2, t[inside]))
+        out.append(ExactSignal(float(y[hi]), float(t[hi]), "", float(y[lo]), float(t[lo]), "", square))
+    rate = float(np.abs(np.diff(result.signals["T_drive_motor"])).max())
+    return out[0], out[1], (f"; from the output samples (moving spans: solved implicitly), to within "
+                            f"{rate:.2g} N m of one step ({step * 1e3:.3g} ms)")
+
+
 def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None = None,
         catalog: Iterable[str] = ()) -> Outcome:
     """One run (``options`` as :func:`prepare_scene`): the belt force against the pretension
     and the first natural frequencies, the carriage's following error, residual vibration and
-    settling time, the motor's peak and RMS torque against motor-size's rigid answer."""
+    settling time after each move, the motor's peak and RMS torque against motor-size's rigid
+    answer."""
     from beltcalc.sim.core import simulate
-    from beltcalc.sim.watch.pieces import coupling_row, drive_torque_row, exact_signals
 
     model, sizing, report = prepare_scene(values, substitute_mass_model, motor, catalog)
     net = build(model)
     t_end, samples = timing(values, model)
     result = simulate(net, t_end, samples, cfg)
-    t_move = move_time(model)
     force = belt_force(model, result["T_belt"])
     result.signals["F_belt"], result.units["F_belt"] = force, "N"
     error = result["x_carriage"] - reference_position(model, result.t)
     result.signals["following_error"], result.units["following_error"] = error, "m"
-    during = result.window(0.0, t_move)
-    after = result.window(t_move)
-    final = float(error[-max(2, samples // 20):].mean())
-    settle = result.settle_time("following_error", final, values["settle_band"], t_move)
-    residual = 0.5 * float(error[after].max() - error[after].min())
+    stops = stop_figures(model, result, values["settle_band"])
     pretension = report.tension_peak
     duty = model.duty
     cycle_time = model.profile.cycle_time
-    # peaks and RMS off the exact solution, both limits at every phase end (as motor-size's)
-    exact = exact_signals(net, {"torque": lambda tm: drive_torque_row(net, "motor", tm),
-                                "force": lambda tm: coupling_row(net, "belt", 1.0 / model.lever)},
-                          t_end, cuts=(t_move,), rms_end=cycle_time if t_end >= cycle_time - 1e-12 else None)
-    torque, belt = exact["torque"], exact["force"]
+    torque, belt, how = extremes(net, model, result, t_end, cycle_time)
     rms = torque.rms(cycle_time)
     worst = belt.peak
     peak_note = (f"at t = {torque.peak_time:.6g} s" + (" (left limit: the end of a phase)"
-                                                      if torque.peak_side == "left" else ""))
+                                                      if torque.peak_side == "left" else "") + how)
     f1 = first_frequency(net)
     sections = [
         Section(("belt",), "belt", [
@@ -437,13 +602,7 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
             Row("damping", "b_TB", model.damping, "N*s/m"),
             Row("first_frequency", "first natural frequency", f1, "Hz"),
         ] + span_rows(model, values)),
-        Section(("carriage",), "carriage", [
-            Row("following_error_max", "following error, max during the move",
-                float(np.abs(error[during]).max()), "m", "mm"),
-            Row("residual_amplitude", "residual vibration after the move, amplitude", residual, "m", "mm"),
-            Row("settling_time", f"settling time after the move (band {values['settle_band'] * 1e3:g} mm)",
-                settle - t_move if settle is not None else None, "s"),
-        ]),
+        Section(("carriage",), "carriage", stop_rows(stops, values["settle_band"])),
         Section(("motor",), f"motor {sizing.shown.motor.name}", [
             Row("torque_peak", "torque, peak (dynamic)", torque.peak, "N m", note=peak_note),
             Row("torque_peak_rigid", "torque, peak (motor-size, rigid)", duty.peak_torque, "N m",
@@ -458,8 +617,10 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
                 f" (m_TB = {model.axis.substitute_mass * 1e3:.4g} g by {substitute_mass_model})")]
     if rms is None:
         result.warnings.append("the run ends before the cycle (move + dwell): no RMS; raise `after_move`")
-    if settle is None:
-        result.warnings.append("the carriage has not settled by the end of the run: raise `after_move`")
+    for k, stop in enumerate(stops):
+        if stop.settle is None:
+            result.warnings.append(f"the carriage has not settled {stop.where} by {stop.until:.6g} s"
+                                   + (": raise `after_move`" if k == len(stops) - 1 else " (the dwell ends)"))
     m = sizing.shown.motor
     checks = [
         RULES["belt_slack"].check(worst, pretension, detail="the largest |belt force| over the run",

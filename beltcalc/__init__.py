@@ -9,7 +9,8 @@ The public API (names load on first use, so ``import beltcalc`` stays cheap):
   brake or bearing friction that sticks),
   :class:`Backlash` (give a network its ``elements()``);
 - design: :func:`design_tension` with :class:`TensionInputs`, :func:`size_axis` with
-  :class:`SizingInputs`, :func:`load_catalog`.
+  :class:`SizingInputs`, :func:`static_error` and :func:`along_stroke` (the static positioning
+  error of a belt-driven axis, :class:`PositionError`), :func:`load_catalog`.
 
 Values are SI floats; pint quantities are accepted where the library takes SI floats and
 converted (or refused with a message naming the field). See the README's "Python" section.
@@ -38,6 +39,8 @@ _WHERE = {
     "Backlash": "beltcalc.sim.elements.backlash",
     "design_tension": "beltcalc.design.tension", "TensionInputs": "beltcalc.design.tension",
     "size_axis": "beltcalc.design.sizing", "SizingInputs": "beltcalc.design.axis_inputs",
+    "static_error": "beltcalc.design.positioning", "along_stroke": "beltcalc.design.positioning",
+    "PositionError": "beltcalc.design.positioning",
     "load_catalog": "beltcalc.data.catalogs",
     "BeltcalcError": "beltcalc.errors", "InputError": "beltcalc.errors",
 }

@@ -80,6 +80,9 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
            "VDI 2230 Part 1 (2015), Systematic calculation of highly stressed bolted joints"),
     Source("BRECO", "Makers' catalogs and manuals",
            "BRECO/BRECOFLEX timing-belt design pages (belt-pilot.com, id=1702)"),
+    Source("BRECOflex23", "Makers' catalogs and manuals",
+           'BRECOflex CO., "Timing Belt Repeatability for Linear Drives", blog, 21 April 2023 '
+           '(brecoflex.com/blog/timing-belt-repeatability-for-linear-drives)'),
     Source("Elatech", "Makers' catalogs and manuals",
            "Elatech timing-belt catalogue (Goodyear Elatech PT belt division)"),
     Source("Tsubaki belts", "Makers' catalogs and manuals",

@@ -67,6 +67,12 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("OEM99", "Papers the models come from",
            'M. Otter, H. Elmqvist, S. E. Mattsson, "Hybrid modeling in Modelica based on the synchronous data '
            'flow principle", Proc. IEEE CACSD (1999) 151-157'),
+    Source("SS90", "Papers the models come from",
+           'N. C. Singer, W. P. Seering, "Preshaping command inputs to reduce system vibration", '
+           'J. Dyn. Sys., Meas., Control 112 (1990) 76-82'),
+    Source("SSS94", "Papers the models come from",
+           'W. Singhose, W. Seering, N. Singer, "Residual vibration reduction using vector diagrams to '
+           'generate shaped inputs", J. Mech. Design 116 (1994) 654-659'),
     Source("BM08", "Textbooks",
            "L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots, Springer (2008)"),
     Source("ISO 606", "Standards",

@@ -1331,7 +1331,8 @@ def test_every_page_with_results_is_held_to_the_check():
     command gives (a page of formulas, keys and sources: listed here)."""
     formulas = {"docs/architecture.md", "docs/switching.md", "docs/eccentric_roller.md", "docs/output-files.md",
                 "docs/equations.md", "docs/friction_and_limits.md",
-                "docs/positioning.md"}
+                "docs/positioning.md",
+                "docs/input_shaping.md"}     # its table: tests/test_shapers.py checks it against the code
     # the docs site's home and its API pages (a ``::: module`` line each: the docstrings)
     formulas |= {"docs/index.md"} | {p for p in pages() if p.startswith("docs/api/")}
     assert set(pages()) == set(RESULT_TABLES) | formulas

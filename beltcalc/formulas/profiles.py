@@ -158,8 +158,17 @@ class SCurve(Trapezoid):
 
     @property
     def accel_time(self) -> float:
-        """Time from standstill to the peak speed [s]."""
+        """Time from standstill to the peak speed [s]: the leading phases of ACCEL_PHASES, or,
+        for a move of other phases (a shaped move, :mod:`beltcalc.formulas.shapers`), the
+        time to the end of the first phase that reaches the peak speed."""
         t = 0.0
+        if self.phases and self.phases[0].name not in ACCEL_PHASES:
+            peak = self.peak_speed
+            for ph in self.phases:
+                t += ph.duration
+                if ph.speed1 >= peak * (1.0 - 1e-12):
+                    break
+            return t
         for ph in self.phases:
             if ph.name not in ACCEL_PHASES:
                 break

@@ -70,6 +70,12 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("HW96", "Textbooks",
            "E. Hairer, G. Wanner, Solving Ordinary Differential Equations II: Stiff and Differential-Algebraic "
            "Problems, 2nd ed., Springer (1996)"),
+    Source("SS90", "Papers the models come from",
+           'N. C. Singer, W. P. Seering, "Preshaping command inputs to reduce system vibration", '
+           'J. Dyn. Sys., Meas., Control 112 (1990) 76-82'),
+    Source("SSS94", "Papers the models come from",
+           'W. Singhose, W. Seering, N. Singer, "Residual vibration reduction using vector diagrams to '
+           'generate shaped inputs", J. Mech. Design 116 (1994) 654-659'),
     Source("BM08", "Textbooks",
            "L. Biagiotti, C. Melchiorri, Trajectory Planning for Automatic Machines and Robots, Springer (2008)"),
     Source("ISO 606", "Standards",

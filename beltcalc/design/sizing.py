@@ -199,11 +199,22 @@ class DutyOptions:
     chopper_voltage: float | None = None
     regen_efficiency: float = 1.0
     zone_end: float | None = None
+    shaper: str | None = None
+    shaper_frequency: float | None = None
+    shaper_zeta: float = 0.0
 
     def __post_init__(self):
         # checked also when no --move-time uses them (an option a run ignores is still checked)
         require_range("accel_fraction", self.accel_fraction, "", 0.0, 0.5, low_open=True)
         require_range("jerk_fraction", self.jerk_fraction, "", 0.0, 0.5)
+        if isinstance(self.shaper, str):
+            from beltcalc.formulas.shapers import SHAPERS
+
+            if self.shaper not in SHAPERS:
+                raise InputError(f"{self.shaper!r} is not a shaper; use one of {', '.join(SHAPERS)}", param="shaper")
+            if self.shaper_frequency is not None:
+                require_positive("shaper_frequency", self.shaper_frequency, "Hz")
+            require_range("shaper_zeta", self.shaper_zeta, "", 0.0, 1.0, high_open=True)
 
 
 @dataclass(frozen=True)
@@ -216,6 +227,87 @@ class GearboxCheck:
     @property
     def ok(self) -> bool:
         return self.value <= self.limit
+
+
+@dataclass(frozen=True)
+class ShapedMove:
+    """A move of the cycle shaped for the axis's first mode where it stops: the move's name,
+    the :class:`beltcalc.formulas.shapers.Shaper`, the carriage's position at the move's end
+    (span 1, drive pulley to carriage [m]; None where the frequency was given) and the time
+    the shaper adds to the move [s] (the dwell after it shortened by as much where it is at
+    least as long)."""
+
+    name: str
+    shaper: object
+    position: float | None
+    added: float
+
+
+def axis_frequency(c_spec: float, mass: float, center_distance: float, pulley_diameter: float,
+                   position: float) -> float:
+    r"""The belt axis's first natural frequency with the carriage at ``position`` (span 1 from
+    the drive pulley [m]) and the drive side held [Hz]: the carriage ``mass`` [kg] between its
+    two spans, each C_spec / L ([W21 eq. 5]),
+
+    .. math:: f = rac{1}{2\pi}\sqrt{rac{C_{spec} (1/L_1 + 1/L_2)}{m}}, \quad L_2 = 2a - L_1 + \pi D / 2
+
+    >>> round(axis_frequency(5.5e5, 50.0, 1.245, 0.128, 1.1225), 3)
+    20.636
+    """
+    from beltcalc.design.positioning import span_lengths, span_pair_stiffness
+
+    l1, l2 = span_lengths(center_distance, pulley_diameter, position)
+    return math.sqrt(span_pair_stiffness(c_spec, l1, l2) / mass) / (2 * math.pi)
+
+
+def shape_cycle(inp: SizingInputs, axis: BeltAxis, belt: BeltProfile, segments: tuple[Segment, ...],
+                opts: DutyOptions) -> tuple[tuple[Segment, ...], tuple[ShapedMove, ...]]:
+    """Each move of ``segments`` shaped by ``opts.shaper`` (:mod:`beltcalc.formulas.shapers`)
+    for the axis's first mode where the move stops (:func:`axis_frequency`: the carriage
+    starts with the stroke centred on the axis, span 1 = (a - stroke) / 2, and each move
+    carries it its distance along its direction), or at ``opts.shaper_frequency``; the dwell
+    after a move gives up the time its shaper adds where it is at least as long (the cycle
+    time stays), else the cycle lengthens. ``opts.shaper`` may also be a
+    :class:`~beltcalc.formulas.shapers.Shaper` itself, used on every move as it is. Returns the
+    segments and what was shaped."""
+    from beltcalc.formulas.shapers import SHAPERS, shaped_profile
+
+    if opts.shaper is None:
+        return segments, ()
+    c_spec = None
+    if opts.shaper_frequency is None and isinstance(opts.shaper, str):
+        row = belt.width_row(inp.width)
+        c_spec = row.C_spec
+        if c_spec is None:
+            raise InputError(f"{belt.name} has no C_spec for {inp.width * 1e3:g} mm in its catalog, so the axis's "
+                             "frequency is unknown: give the shaper's frequency", param="shaper_frequency")
+    a, lever = inp.center_distance, axis.carriage_per_motor()
+    position = (a - inp.stroke) / 2
+    out, shaped = list(segments), []
+    for k, seg in enumerate(segments):
+        if seg.kind != "move":
+            continue
+        position += seg.direction * sum(ph.angle for ph in seg.profile.phases if ph.name != "dwell") * lever
+        if not isinstance(opts.shaper, str):            # a shaper given as it is
+            f, where = None, None
+        elif opts.shaper_frequency is not None:
+            f, where = opts.shaper_frequency, None
+        else:
+            if not 0 < position < a:
+                raise InputError(f"move {seg.name!r} ends {position * 1e3:.6g} mm from the drive pulley, off the "
+                                 f"axis (0 to {a * 1e3:g} mm, the stroke centred on it): give the shaper's "
+                                 "frequency", param="shaper_frequency")
+            f = axis_frequency(c_spec, axis.mass + axis.substitute_mass + seg.payload, a, axis.pulley_diameter,
+                               position)
+            where = position
+        shaper = SHAPERS[opts.shaper](f, opts.shaper_zeta) if f is not None else opts.shaper
+        move = tuple(ph for ph in seg.profile.phases if ph.name != "dwell")
+        out[k] = replace(seg, profile=shaped_profile(replace(seg.profile, dwell=0.0, phases=move), shaper))
+        nxt = out[k + 1] if k + 1 < len(out) else None
+        if nxt is not None and nxt.kind == "dwell" and nxt.duration >= shaper.duration:
+            out[k + 1] = replace(nxt, duration=nxt.duration - shaper.duration)
+        shaped.append(ShapedMove(seg.name, shaper, where, shaper.duration))
+    return tuple(g for g in out if g.kind == "move" or g.duration > 0), tuple(shaped)
 
 
 @dataclass(frozen=True)
@@ -235,6 +327,7 @@ class CycleSizing:
     assumptions: tuple[str, ...]
     checks: tuple[Check, ...] = ()      # the reported motor's and the gearbox's
     notes: tuple[str, ...] = ()         # what the cycle does that was not asked (jerk-limited moves, the way back)
+    shaped: tuple[ShapedMove, ...] = ()  # each move's input shaper (DutyOptions.shaper)
 
     @property
     def first_move(self) -> Segment:
@@ -391,7 +484,7 @@ def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor:
     else:
         gearbox = Gearbox(inp.gear_ratio, inp.gearbox_inertia, opts.gear_efficiency, opts.gear_efficiency_back)
     drive = AxisDrive(axis, Mounting(opts.incline, opts.counterweight, opts.brake), gearbox)
-    segments = cycle_segments(inp, axis, opts)
+    segments, shaped = shape_cycle(inp, axis, belt, cycle_segments(inp, axis, opts), opts)
     choice = choose_for_cycle(drive, segments, motors, inp.motor_efficiency, inp.inertia_ratio_limit,
                               inp.peak_margin, opts.zone_end)
     shown = choice.selected
@@ -450,7 +543,7 @@ def size_cycle(inp: SizingInputs, belt: BeltProfile, motors: list[Motor], motor:
     return CycleSizing(axis=axis, drive=drive, segments=segments, choice=choice, shown=shown,
                        substitute_mass=m_tb, regen=regen, gearbox_checks=tuple(gb_checks),
                        warnings=tuple(warnings), assumptions=tuple(assumptions), checks=tuple(checks),
-                       notes=tuple(notes))
+                       notes=tuple(notes), shaped=shaped)
 
 
 def move_energy(segments, duty) -> tuple[float, float, float]:

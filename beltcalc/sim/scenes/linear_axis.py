@@ -65,6 +65,14 @@ PARAMS = AXIS_PARAMS + [
           "on the axis).", required=False),
     Param("cycle", None, "one-way (one move, then after_move) or out-and-back (the move, a dwell, the move "
           "back, a dwell: settling at both ends).", required=False),
+    Param("shaper", None, "Input shaper for each move: zv, zvd or ei (none: the move as planned), designed "
+          "for the axis's first mode where the move stops.", required=False),
+    Param("shaper_frequency", "Hz", "The shaper's design frequency instead of the predicted mode's.",
+          required=False),
+    Param("shaper_zeta", "", "The shaper's design damping ratio instead of the predicted mode's.", required=False),
+    Param("shaper_at", None, "both (default: the modes where each move starts and stops, the two shapers "
+          "convolved: what the move excites at its start rings on, lightly damped, to its stop) or end (the mode "
+          "where it stops only).", required=False),
     Param("after_move", "s", "Simulated time after the move."),
     Param("step", "s", "Output step."),
     Param("settle_band", "m", "Following-error band for the settling time."),
@@ -77,6 +85,19 @@ PARAMS = AXIS_PARAMS + [
     Param("jerk_fraction", "", "With move_time: jerk time / acceleration time (0: trapezoid, at most 0.5).",
           required=False),
 ]
+
+
+@dataclass(frozen=True)
+class ShapedBack:
+    """The move back's shaper (designed where it stops, at the stroke's start)."""
+
+    shaper: object
+    name: str = "move back"
+    position: float | None = None
+
+    @property
+    def added(self) -> float:
+        return self.shaper.duration
 
 
 @dataclass(frozen=True)
@@ -102,6 +123,7 @@ class AxisModel:
     center_distance: float = 0.0   # m, a
     start: float = 0.0             # m, span 1 at the move's start (drive pulley to carriage)
     cycle: str = "one-way"
+    shaped: tuple = ()             # each move's shaper (ShapedMove of motor-size, ShapedBack)
 
     @property
     def travel(self) -> float:
@@ -349,7 +371,8 @@ def span_stiffness(specific_stiffness: float, center_distance: float, pulley_dia
 
 def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "prescribed",
             speed_gain: float = 0.0, belt_model: str = "substitute", opts=None, spans: str = "paper",
-            start: float | None = None, cycle: str = "one-way"):
+            start: float | None = None, cycle: str = "one-way", shaper_zeta: float | None = None,
+            shaper_at: str = "both"):
     """From the designer's data to the model: ``motor-size`` (the rigid axis, the move, the
     motor and its rigid duty) and ``tension`` (k_TB, b_TB and the pretension F_t,peak).
 
@@ -358,18 +381,73 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     None: the trapezoid; a cycle, an incline or a gearbox efficiency are not simulated);
     ``tension_inputs``: :class:`beltcalc.design.tension.TensionInputs` (its mass, width, centre
     distance and pulley diameter are taken from the axis); ``spans``, ``start`` (None: the stroke
-    centred on the axis) and ``cycle`` as :class:`AxisModel`'s. Returns (AxisModel,
+    centred on the axis) and ``cycle`` as :class:`AxisModel`'s. A shaper in ``opts``
+    (:class:`beltcalc.design.sizing.DutyOptions`) shapes each move for the model's own first
+    mode where the move stops (:func:`axis_mode`; ``opts.shaper_frequency`` instead where
+    given), with that mode's damping ratio or ``shaper_zeta``; ``shaper_at`` ``both``: for
+    the modes where it starts and where it stops (the two shapers convolved). Returns (AxisModel,
     CycleSizing, TensionReport).
     """
-    from beltcalc.formulas.drive import motor_damping
-    from beltcalc.design.sizing import DutyOptions, size_cycle
-    from beltcalc.design.tension import design_tension
+    from beltcalc.design.sizing import DutyOptions
 
     opts = DutyOptions() if opts is None else opts
     if opts.cycle is not None or opts.incline or opts.counterweight or opts.gearbox is not None \
             or opts.gear_efficiency != 1.0 or opts.gear_efficiency_back not in (None, 1.0):
         raise InputError("the linear-axis simulation takes one horizontal move through an ideal gearbox "
                          "(no cycle, incline, counterweight or gearbox efficiency)", param="drive")
+    shaping = opts.shaper
+    model, sizing, report = _assemble(inp, belt, motors, motor, tension_inputs, thread,
+                                      replace(opts, shaper=None, shaper_frequency=None),
+                                      (drive, speed_gain, belt_model, spans, start, cycle))
+    if shaping is None:
+        return model, sizing, report
+    # each move shaped for the mode where it stops: the move out at the end of the stroke, the
+    # move back at its start (the model's own network, held there)
+    modes = {x: axis_mode(model, x) for x in (model.travel, 0.0)}
+    (f_out, z_out), (f_back, z_back) = modes[model.travel], modes[0.0]
+    if opts.shaper_frequency is not None:
+        f_out = f_back = opts.shaper_frequency
+    from beltcalc.formulas.shapers import SHAPERS, convolve
+
+    zeta = (lambda z: z) if shaper_zeta is None else (lambda z: shaper_zeta)
+    out = SHAPERS[shaping](f_out, zeta(z_out))
+    back = SHAPERS[shaping](f_back, zeta(z_back))
+    if shaper_at == "both" and opts.shaper_frequency is None:
+        # the move starts where the other stops: one shaper for each end's mode, convolved
+        out, back = convolve(out, back), convolve(back, out)
+    elif shaper_at not in ("end", "both"):
+        raise InputError(f"{shaper_at!r}: use end (the mode where each move stops) or both (where it starts and "
+                         "stops)", param="shaper_at")
+    shaped_opts = replace(opts, shaper=out, shaper_frequency=None)
+    back = back if cycle == "out-and-back" else None
+    return _assemble(inp, belt, motors, motor, tension_inputs, thread, shaped_opts,
+                     (drive, speed_gain, belt_model, spans, start, cycle), back, model)
+
+
+def axis_mode(model: AxisModel, x: float) -> tuple[float, float]:
+    """(frequency [Hz], damping ratio) of the axis's first mode with the carriage ``x`` [m]
+    from the move's start (moving spans: held there; the paper's one span: wherever it is)."""
+    from beltcalc.sim.elements.carriage_belt import held_at
+
+    net = build(model)
+    if model.spans == "moving":
+        net = held_at(net, {"belt": x})
+    modes = net.modes()
+    if not modes:
+        raise InputError("the axis has no oscillatory mode to shape the move for (overdamped)", param="shaper")
+    return modes[0]
+
+
+def _assemble(inp, belt, motors, motor, tension_inputs, thread, opts, layout, back_shaper=None, unshaped=None):
+    """The :class:`AxisModel` of :func:`prepare` from the sizing of ``opts``; ``layout`` =
+    (drive, speed_gain, belt_model, spans, start, cycle); ``back_shaper``: the move back's
+    shaper, applied to the move ``unshaped`` (the model without shaping) makes."""
+    from beltcalc.formulas.drive import motor_damping
+    from beltcalc.formulas.shapers import shape_phases
+    from beltcalc.design.sizing import size_cycle
+    from beltcalc.design.tension import design_tension
+
+    drive, speed_gain, belt_model, spans, start, cycle = layout
     sizing = size_cycle(inp, belt, motors, motor, opts)
     if sizing.shown is None:
         raise InputError(f"no motor fits ({sizing.choice.reason}); name one to simulate anyway", param="motor")
@@ -380,9 +458,16 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
     stop = (Phase("dwell", dwell, 0.0, 0.0),) if dwell > 0 else ()
     phases = out + stop
     if cycle == "out-and-back":
-        # the move back: the move out negated, then the dwell again
-        phases += tuple(Phase("back " + ph.name, ph.duration, -ph.speed0, -ph.accel, -ph.jerk) for ph in out) \
-            + (Phase("back dwell", dwell, 0.0, 0.0),) * bool(stop)
+        # the move back: the move out negated (shaped for where it stops), then the dwell again
+        ahead, rest = out, dwell
+        if back_shaper is not None:
+            plain = tuple(ph for ph in unshaped.profile.phases                # the unshaped move out
+                          if not ph.name.endswith("dwell") and not ph.name.startswith("back "))
+            ahead = shape_phases(plain, back_shaper)
+            rest = unshaped.profile.dwell
+            rest = rest - back_shaper.duration if rest >= back_shaper.duration else rest
+        phases += tuple(Phase("back " + ph.name, ph.duration, -ph.speed0, -ph.accel, -ph.jerk) for ph in ahead) \
+            + ((Phase("back dwell", rest, 0.0, 0.0),) if rest > 0 else ())
     profile = replace(move, dwell=dwell, phases=phases)
     # a_max of the rigidity condition [W21 eq. 11]: the largest acceleration the move reaches
     accel = max(max(abs(ph.accel), abs(ph.accel1)) for ph in phases) * sizing.axis.carriage_per_motor()
@@ -397,6 +482,7 @@ def prepare(inp, belt, motors, motor, tension_inputs, thread, drive: str = "pres
         stiffness=report.stiffness, damping=report.damping, belt_mass=report.belt_mass, teeth=report.teeth,
         drive=drive, speed_gain=speed_gain, belt_model=belt_model, spans=spans, center_distance=inp.center_distance,
         start=(inp.center_distance - inp.stroke) / 2 if start is None else start, cycle=cycle,
+        shaped=sizing.shaped + ((ShapedBack(back_shaper),) if back_shaper is not None else ()),
     )
     model.check()
     return model, sizing, report
@@ -407,8 +493,10 @@ def move_options(values: dict):
     ``move_time``, ``accel_fraction``, ``jerk_fraction``); none given: the trapezoid."""
     from beltcalc.design.sizing import DutyOptions
 
-    given = {k: values[k] for k in ("jerk", "move_time", "accel_fraction", "jerk_fraction")
-             if values.get(k) is not None}
+    given = {k: values[k] for k in ("jerk", "move_time", "accel_fraction", "jerk_fraction", "shaper",
+                                    "shaper_frequency") if values.get(k) is not None}
+    if given.get("shaper") == "none":
+        del given["shaper"]
     with scene_values(tuple(given)):
         if "move_time" in given and "jerk" in given:
             raise InputError("move_time gives the move by its time; use jerk_fraction instead of jerk",
@@ -432,10 +520,12 @@ def prepare_scene(values: dict, substitute_mass_model: str = "eq7", motor: str |
                         tension_accel=values["tension_accel"], tension_speed=values["tension_speed"],
                         mu=values["mu"], pulley_diameter=1.0, damping=values.get("damping"))
     opts = move_options(values)
-    with scene_values(("drive", "jerk", "move_time", "accel_fraction", "jerk_fraction", "spans", "start", "cycle")):
+    with scene_values(("drive", "jerk", "move_time", "accel_fraction", "jerk_fraction", "spans", "start", "cycle",
+                       "shaper", "shaper_frequency", "shaper_zeta", "shaper_at")):
         return prepare(inp, cat.belt(values["belt"]), list(cat.motors.values()), cat.motor(motor) if motor else None,
                        tin, cat.thread(values["thread"]), values["drive"], values["speed_gain"], values["belt_model"],
-                       opts, values.get("spans") or "paper", values.get("start"), values.get("cycle") or "one-way")
+                       opts, values.get("spans") or "paper", values.get("start"), values.get("cycle") or "one-way",
+                       values.get("shaper_zeta"), values.get("shaper_at") or "both")
 
 
 def timing(values: dict, model: AxisModel) -> tuple[float, int]:
@@ -535,6 +625,21 @@ def stop_rows(stops: list[Stop], band: float) -> list[Row]:
     return rows
 
 
+def shaper_rows(model: AxisModel) -> list[Row]:
+    """Each move's input shaper: its kind, design frequency and damping ratio, and the time it
+    adds to the move."""
+    rows = []
+    for k, m in enumerate(model.shaped):
+        tag, label = ("", "the move") if k == 0 else ("_back", "the move back")
+        sh = m.shaper
+        where = "at the end of the stroke" if k == 0 else "back at the start"
+        rows += [Row(f"shaper_frequency{tag}", f"{sh.name.upper()} shaper of {label}, design frequency", sh.frequency,
+                     "Hz", note=f"the first mode {where}, damping ratio {sh.zeta:.3g}"
+                     + (" (convolved with the shaper for where it starts)" if "*" in sh.name else "")),
+                 Row(f"shaper_time{tag}", f"  time it adds to {label}", sh.duration, "s")]
+    return rows
+
+
 def extremes(net: Network, model: AxisModel, result, t_end: float, cycle_time: float):
     """(motor torque, belt force, how) as :class:`~beltcalc.sim.watch.pieces.ExactSignal`:
     off the exact solution on a linear network (both limits at every phase end); off the
@@ -602,7 +707,7 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
             Row("damping", "b_TB", model.damping, "N*s/m"),
             Row("first_frequency", "first natural frequency", f1, "Hz"),
         ] + span_rows(model, values)),
-        Section(("carriage",), "carriage", stop_rows(stops, values["settle_band"])),
+        Section(("carriage",), "carriage", stop_rows(stops, values["settle_band"]) + shaper_rows(model)),
         Section(("motor",), f"motor {sizing.shown.motor.name}", [
             Row("torque_peak", "torque, peak (dynamic)", torque.peak, "N m", note=peak_note),
             Row("torque_peak_rigid", "torque, peak (motor-size, rigid)", duty.peak_torque, "N m",

@@ -22,7 +22,7 @@ from beltcalc.design.checks import percent
 from beltcalc.design.motor_report import (SWEEP_COLUMNS, inherited_rows, profile_csv, report_dict, report_sections,
                                           scene_dict, sweep_table)
 from beltcalc.errors import InputError, UnknownNameError, did_you_mean
-from beltcalc.report import Section
+from beltcalc.report import Row, Section
 from beltcalc.design.axis_inputs import PARAMS
 
 
@@ -98,6 +98,20 @@ def _sweep_spec(text: str | None):
                  help="Share of the braking energy that reaches the DC bus (1: all of it, the safe side).")
 @quantity_option("--zone-end", si_unit="", default=None,
                  help="Assumed intermittent zone at n_max as a fraction of T_max [default: down to T_n].")
+@click.option("--shaper", type=click.Choice(["zv", "zvd", "ei"]), default=None,
+              help="Shape each move with an input shaper for the belt's first mode where the move stops (the "
+                   "carriage between its two spans, k = C_spec (1/L1 + 1/L2), the drive held; the stroke centred "
+                   "on the axis), or at --shaper-frequency.")
+@quantity_option("--shaper-frequency", si_unit="Hz", default=None,
+                 help="With --shaper: the design frequency instead of the predicted mode's.")
+@quantity_option("--shaper-zeta", si_unit="", default="0",
+                 help="With --shaper: the mode's damping ratio it is designed for.")
+@click.option("--shaper-at", type=click.Choice(["both", "end"]), default="both", show_default=True,
+              help="With --shaper: shape each move for the modes where it starts and stops (two shapers "
+                   "convolved: the start's ringing survives a lightly damped move) or where it stops only.")
+@quantity_option("--settle-band", si_unit="m", default=None,
+                 help="Simulate the move out and back (the belt's spans following the carriage, an ideal servo) "
+                      "and check that the carriage settles into this band (e.g. 0.05mm) within each dwell.")
 @click.option("--motor", "motor_name", default=None, help="Report this motor (the choice is still made over all).")
 @click.option("--motors", "motor_files", default=None,
               help="Choose only among the motors of this catalog file (e.g. yaskawa).")
@@ -113,7 +127,8 @@ def _sweep_spec(text: str | None):
 def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fraction, jerk_fraction, cycle_path,
                segment_texts, incline,
                counterweight, brake, gear_efficiency, gear_efficiency_back, gearbox_name, gearbox_files,
-               dc_bus_capacitance, dc_bus_voltage, chopper_voltage, regen_efficiency, zone_end, motor_name,
+               dc_bus_capacitance, dc_bus_voltage, chopper_voltage, regen_efficiency, zone_end, shaper,
+               shaper_frequency, shaper_zeta, shaper_at, settle_band, motor_name,
                motor_files, sweep_text, plot_path, catalog_paths, as_json, csv_path, strict, **given):
     """Motor torque, energy and motor choice for a timing-belt linear axis.
 
@@ -184,7 +199,8 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
         gear_efficiency=1.0 if gear_efficiency is None else gear_efficiency,
         gear_efficiency_back=gear_efficiency_back, gearbox=gb, dc_bus_capacitance=dc_bus_capacitance,
         dc_bus_voltage=dc_bus_voltage, chopper_voltage=chopper_voltage, regen_efficiency=regen_efficiency,
-        zone_end=zone_end)
+        zone_end=zone_end, shaper=shaper, shaper_frequency=shaper_frequency,
+        shaper_zeta=0.0 if shaper_zeta is None else shaper_zeta, shaper_at=shaper_at)
     try:
         with out_of_range(ctx):
             sizing = size_cycle(inp, belt, motors, chosen, opts)
@@ -194,6 +210,9 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
         raise
 
     sections = report_sections(sizing, option_name)
+    if settle_band is not None and sizing.shown is not None:
+        sizing, settled = _settling(sizing, inp, belt, opts, settle_band, catalog_paths, as_json)
+        sections.append(settled)
     warnings = options_text(sizing.warnings)
     fits = sizing.choice.selected is not None
     emit_warnings(warnings, sizing.checks, strict and fits)   # with --strict, a failing check ends here
@@ -224,6 +243,26 @@ def motor_size(ctx, scene, substitute_mass_model, jerk, move_time, accel_fractio
     if not fits:
         raise InputError(f"no motor fits: {sizing.choice.reason} (see the table); lower --accel or --speed, "
                          "change --gear-ratio, or add motors with --catalog", param=None)
+
+
+def _settling(sizing, inp, belt, opts, band: float, catalog_paths, as_json: bool):
+    """The sizing with the settling checks of its move out and back added, and their section
+    (:func:`beltcalc.sim.scenes.linear_axis.settle_cycle`)."""
+    from dataclasses import replace
+
+    from beltcalc.sim.scenes.linear_axis import settle_cycle, stop_rows
+
+    if band <= 0:
+        raise click.BadParameter(f"{band * 1e3:g} mm is not allowed; the band must be > 0", param_hint="--settle-band")
+    with progress(1, "settling: simulating the move out and back", enabled=not as_json) as advance:
+        stops, checks, run = settle_cycle(inp, belt, sizing.shown.motor, opts, band, catalog_paths)
+        advance()
+    rows = stop_rows(stops, band)
+    rows.append(Row("settle_error_estimate", "error estimate of the run (worst speed)", run.error_estimate,
+                    run.error_unit, note=f"{run.method}; vs {run.error_reference}"))
+    section = Section(("settling",), "settling (dynamic: the belt's spans following the carriage, an ideal servo)",
+                      rows)
+    return replace(sizing, checks=sizing.checks + tuple(checks)), section
 
 
 def _inputs(ctx, values) -> dict:

@@ -296,6 +296,9 @@ RULES: Mapping[str, Rule] = {r.key: r for r in (
     Rule("belt_slack", "belt force", None, "N", "max", "|F_belt|",
          "Wojtkowiak et al. 2021 eq. 10-11: above the pretension the slack span goes slack",
          limit_name="F_t,peak (the pretension)", met_by=("simulate linear-axis",)),
+    Rule("settling", "settling in the stop", None, "s", "max", "t_settle",
+         "our rule: the carriage settles into the band before the next move starts",
+         limit_name="the stop (the dwell)", met_by=("simulate linear-axis", "motor-size")),
     Rule("span_taut", "belt span force, min", 0.0, "N", "min", "F_min",
          "our rule: a tension-only span pulls only while its force is > 0", met_by=("simulate sewing",)),
     # motors

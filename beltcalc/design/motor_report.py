@@ -95,6 +95,15 @@ def report_sections(s, name: Callable[[str], str] = _same) -> list[Section]:
         motion.append(Row("motor_jerk", "motor jerk limit" + ("" if single else " (first move)"), prof.jerk,
                           "rad/s^3", note="S-curve"))
     motion.append(Row("cycle_time", "cycle time", cycle_time, "s"))
+    for n, m in enumerate(s.shaped, start=1):
+        tag = "" if len(s.shaped) == 1 else f"_{n}"
+        where = ("given" if m.position is None else
+                 f"the belt's first mode with the carriage {m.position * 1e3:.5g} mm from the drive pulley "
+                 "(both spans, the drive held)")
+        motion += [Row(f"shaper_frequency{tag}", f"{m.shaper.name.upper()} input shaper of {m.name}, designed at",
+                       m.shaper.frequency, "Hz", note=where + f"; damping ratio {m.shaper.zeta:.3g}"),
+                   Row(f"shaper_time{tag}", "  time it adds to the move", m.added, "s",
+                       note="the dwell after it shortened by as much, where it is as long")]
     mt = s.drive.mounting
     if mt.incline != 0:
         motion.append(Row("incline", "incline", mt.incline, "rad", "deg",

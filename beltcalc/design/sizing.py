@@ -202,6 +202,7 @@ class DutyOptions:
     shaper: str | None = None
     shaper_frequency: float | None = None
     shaper_zeta: float = 0.0
+    shaper_at: str = "both"
 
     def __post_init__(self):
         # checked also when no --move-time uses them (an option a run ignores is still checked)
@@ -215,6 +216,9 @@ class DutyOptions:
             if self.shaper_frequency is not None:
                 require_positive("shaper_frequency", self.shaper_frequency, "Hz")
             require_range("shaper_zeta", self.shaper_zeta, "", 0.0, 1.0, high_open=True)
+            if self.shaper_at not in ("end", "both"):
+                raise InputError(f"{self.shaper_at!r}: use end (the mode where each move stops) or both (where it "
+                                 "starts and where it stops)", param="shaper_at")
 
 
 @dataclass(frozen=True)
@@ -263,14 +267,15 @@ def axis_frequency(c_spec: float, mass: float, center_distance: float, pulley_di
 def shape_cycle(inp: SizingInputs, axis: BeltAxis, belt: BeltProfile, segments: tuple[Segment, ...],
                 opts: DutyOptions) -> tuple[tuple[Segment, ...], tuple[ShapedMove, ...]]:
     """Each move of ``segments`` shaped by ``opts.shaper`` (:mod:`beltcalc.formulas.shapers`)
-    for the axis's first mode where the move stops (:func:`axis_frequency`: the carriage
+    for the axis's first mode where the move stops (``opts.shaper_at`` ``both``: and where it
+    starts, the two shapers convolved) (:func:`axis_frequency`: the carriage
     starts with the stroke centred on the axis, span 1 = (a - stroke) / 2, and each move
     carries it its distance along its direction), or at ``opts.shaper_frequency``; the dwell
     after a move gives up the time its shaper adds where it is at least as long (the cycle
     time stays), else the cycle lengthens. ``opts.shaper`` may also be a
     :class:`~beltcalc.formulas.shapers.Shaper` itself, used on every move as it is. Returns the
     segments and what was shaped."""
-    from beltcalc.formulas.shapers import SHAPERS, shaped_profile
+    from beltcalc.formulas.shapers import SHAPERS, convolve, shaped_profile
 
     if opts.shaper is None:
         return segments, ()
@@ -287,20 +292,24 @@ def shape_cycle(inp: SizingInputs, axis: BeltAxis, belt: BeltProfile, segments: 
     for k, seg in enumerate(segments):
         if seg.kind != "move":
             continue
+        before = position
         position += seg.direction * sum(ph.angle for ph in seg.profile.phases if ph.name != "dwell") * lever
         if not isinstance(opts.shaper, str):            # a shaper given as it is
-            f, where = None, None
+            shaper, where = opts.shaper, None
         elif opts.shaper_frequency is not None:
-            f, where = opts.shaper_frequency, None
+            shaper, where = SHAPERS[opts.shaper](opts.shaper_frequency, opts.shaper_zeta), None
         else:
-            if not 0 < position < a:
-                raise InputError(f"move {seg.name!r} ends {position * 1e3:.6g} mm from the drive pulley, off the "
-                                 f"axis (0 to {a * 1e3:g} mm, the stroke centred on it): give the shaper's "
-                                 "frequency", param="shaper_frequency")
-            f = axis_frequency(c_spec, axis.mass + axis.substitute_mass + seg.payload, a, axis.pulley_diameter,
-                               position)
-            where = position
-        shaper = SHAPERS[opts.shaper](f, opts.shaper_zeta) if f is not None else opts.shaper
+            def designed(x: float):
+                if not 0 < x < a:
+                    raise InputError(f"move {seg.name!r} reaches {x * 1e3:.6g} mm from the drive pulley, off the "
+                                     f"axis (0 to {a * 1e3:g} mm, the stroke centred on it): give the shaper's "
+                                     "frequency", param="shaper_frequency")
+                f = axis_frequency(c_spec, axis.mass + axis.substitute_mass + seg.payload, a, axis.pulley_diameter, x)
+                return SHAPERS[opts.shaper](f, opts.shaper_zeta)
+            shaper, where = designed(position), position
+            if opts.shaper_at == "both":
+                # what the move excites where it starts rings on (lightly damped) to where it stops
+                shaper = convolve(shaper, designed(before))
         move = tuple(ph for ph in seg.profile.phases if ph.name != "dwell")
         out[k] = replace(seg, profile=shaped_profile(replace(seg.profile, dwell=0.0, phases=move), shaper))
         nxt = out[k + 1] if k + 1 < len(out) else None

@@ -625,6 +625,55 @@ def stop_rows(stops: list[Stop], band: float) -> list[Row]:
     return rows
 
 
+def settling_checks(stops: list[Stop], band: float, last: bool = True) -> list:
+    """The settling check of each stop that a move follows (``last``: the run's final stop
+    too, whose end is the run's): the settling time into ``band`` [m] against the stop's
+    length (not settled: beyond any figure)."""
+    out = []
+    for k, st in enumerate(stops):
+        if k == len(stops) - 1 and not last:
+            continue
+        tag = "" if k == 0 else "_back"
+        out.append(RULES["settling"].check(
+            math.inf if st.settle is None else st.settle, st.until - st.t_end, key=f"settling{tag}",
+            detail=f"the carriage {st.where}, into +-{band * 1e3:g} mm of its rest"
+                   + (": not settled within the stop" if st.settle is None else ""), signals=("following_error",)))
+    return out
+
+
+def settle_cycle(inp, belt, motor, opts, band: float, catalog=None, cfg=None):
+    """The settling of ``motor-size``'s move out and back on the axis as a dynamic model: the
+    belt's two spans following the carriage, the motor an ideal servo, the move ``opts``
+    (shaped as motor-size shapes it), the belt's stiffness and damping as ``beltcalc tension``
+    finds them (the linear-axis scene's thread and tensioning values). Returns (stops
+    (:class:`Stop`), the settling checks, the run) or raises :class:`InputError` where the
+    cycle is not one horizontal move."""
+    from beltcalc.data.catalogs import load_catalog
+    from beltcalc.design.tension import TensionInputs
+    from beltcalc.sim.core import simulate
+    from beltcalc.sim.methods import SolverConfig
+
+    cat = load_catalog(catalog or ())
+    v = SCENE.values()
+    tin = TensionInputs(center_distance=inp.center_distance, width=inp.width, mass=inp.mass, accel=1.0,
+                        tension_accel=v["tension_accel"], tension_speed=v["tension_speed"], mu=v["mu"],
+                        pulley_diameter=1.0)
+    if opts.cycle is not None or opts.incline:
+        raise InputError("the settling check simulates one horizontal move, out and back (no --cycle, --segment or "
+                         "--incline)", param="settle_band")
+    model, _, _ = prepare(inp, belt, [motor], motor, tin, cat.thread(v["thread"]), opts=opts, spans="moving",
+                          cycle="out-and-back", shaper_zeta=opts.shaper_zeta,
+                          shaper_at=opts.shaper_at if opts.shaper_frequency is None else "end")
+    net = build(model)
+    t_end = moves(model)[-1][1] + model.profile.dwell + 1e-9
+    samples = int(round(t_end / 1e-4)) + 1
+    result = simulate(net, t_end, samples, cfg or SolverConfig())
+    result.signals["following_error"] = result["x_carriage"] - reference_position(model, result.t)
+    result.units["following_error"] = "m"
+    stops = stop_figures(model, result, band)
+    return stops, settling_checks(stops, band), result
+
+
 def shaper_rows(model: AxisModel) -> list[Row]:
     """Each move's input shaper: its kind, design frequency and damping ratio, and the time it
     adds to the move."""
@@ -723,9 +772,9 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
     if rms is None:
         result.warnings.append("the run ends before the cycle (move + dwell): no RMS; raise `after_move`")
     for k, stop in enumerate(stops):
-        if stop.settle is None:
-            result.warnings.append(f"the carriage has not settled {stop.where} by {stop.until:.6g} s"
-                                   + (": raise `after_move`" if k == len(stops) - 1 else " (the dwell ends)"))
+        if stop.settle is None and k == len(stops) - 1:
+            result.warnings.append(f"the carriage has not settled {stop.where} by {stop.until:.6g} s: raise "
+                                   "`after_move`")
     m = sizing.shown.motor
     checks = [
         RULES["belt_slack"].check(worst, pretension, detail="the largest |belt force| over the run",
@@ -737,6 +786,7 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
                                         signals=("T_drive_motor",)),
         RULES["motor_speed"].check(float(np.abs(result["omega_motor"]).max()), m.n_max,
                                    detail=f"against {m.name}'s n_max"),
+        *settling_checks(stops, values["settle_band"], last=False),
         RULES["belt_mass"].check(model.belt_mass, model.axis.mass,
                                  detail="the belt on the span against the carriage mass it moves; a belt heavier "
                                         "than its carriage is outside the substitute model's premise (m_TB small "

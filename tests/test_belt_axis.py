@@ -192,3 +192,88 @@ def test_bad_carriage_belts_are_refused_naming_the_key(tmp_path, change, key):
     assert code in (1, 2), stderr
     assert len(stderr.strip().splitlines()) == 1, stderr
     assert "Traceback" not in stderr
+
+
+# --- moves shaped to the axis (the linear-axis scene, through the command) -------------------------------
+def _scene(*sets: str) -> dict:
+    args = ["simulate", "linear-axis", "--json"]
+    for s in sets:
+        args += ["--set", s]
+    code, stdout, stderr = cli(*args)
+    assert code == 0, stderr
+    return json.loads(stdout)
+
+
+UNDAMPED = ("damping=0N*s/m", "guide_friction=0", "shaper_at=end")
+
+
+def test_a_zv_shaper_leaves_no_residual_vibration_at_its_design_frequency():
+    """The WDU axis with its one belt span (the paper's model, linear: solved exactly), no damping
+    and no friction: one undamped mode. The ZV-shaped move leaves none to rounding; EI leaves its
+    tolerance, 5 %, of the unshaped move's."""
+    plain = _scene(*UNDAMPED, "shaper=none")
+    zv = _scene(*UNDAMPED, "shaper=zv")
+    ei = _scene(*UNDAMPED, "shaper=ei")
+    assert plain["method"] == zv["method"] == "exact"
+    unshaped = plain["carriage"]["residual_amplitude"]["value"]
+    assert unshaped == pytest.approx(5.685e-4, rel=1e-3)
+    assert zv["carriage"]["residual_amplitude"]["value"] == pytest.approx(0.0, abs=1e-11 * unshaped + 1e-15)
+    assert ei["carriage"]["residual_amplitude"]["value"] == pytest.approx(0.05 * unshaped, rel=1e-6)
+    # the mode it was designed for: sqrt(k_TB / m) / 2 pi of the scene
+    f = zv["carriage"]["shaper_frequency"]["value"]
+    assert zv["carriage"]["shaper_time"]["value"] == pytest.approx(1 / (2 * f), rel=1e-12)
+
+
+@pytest.mark.parametrize("ratio", [0.9, 1.07])
+def test_off_its_frequency_the_zv_shaper_follows_its_sensitivity_curve(ratio):
+    """Designed at f / r for a mode at f: the residual is |cos(pi r / 2)| of the unshaped move's
+    (the ZV curve of an undamped mode [SS90])."""
+    plain = _scene(*UNDAMPED, "shaper=none")
+    f = _scene(*UNDAMPED, "shaper=zv")["carriage"]["shaper_frequency"]["value"]
+    off = _scene(*UNDAMPED, "shaper=zv", f"shaper_frequency={f / ratio!r}Hz")
+    expected = abs(math.cos(math.pi * ratio / 2)) * plain["carriage"]["residual_amplitude"]["value"]
+    assert off["carriage"]["residual_amplitude"]["value"] == pytest.approx(expected, rel=1e-6)
+
+
+def test_moving_spans_out_and_back_shaped_at_both_ends_settle():
+    """The WDU axis with its spans following the carriage, out and back: unshaped it rings through
+    both dwells; shaped for the modes where each move starts and stops (ZVD, convolved) it settles
+    into 0.05 mm within them, and the report says what the shapers were designed for."""
+    plain = _scene("spans=moving", "cycle=out-and-back", "shaper=none")
+    shaped = _scene("spans=moving", "cycle=out-and-back", "shaper=zvd")
+    c0, c1 = plain["carriage"], shaped["carriage"]
+    assert c0["settling_time"]["value"] is None             # not within the 0.5 s dwell
+    assert c0["settling_time_back"]["value"] == pytest.approx(0.62, abs=0.05)   # 0.6 s into the last 1 s
+    assert c1["settling_time"]["value"] == pytest.approx(0.0, abs=0.01)
+    assert c1["settling_time_back"]["value"] == pytest.approx(0.0, abs=0.01)
+    assert c1["residual_amplitude"]["value"] == pytest.approx(0.0, abs=0.1 * c0["residual_amplitude"]["value"])
+    # designed where each move stops: the two-span closed form, the drive held, at each end
+    from beltcalc.design.sizing import axis_frequency
+    from beltcalc.sim.scenes import linear_axis as la
+
+    model = la.prepare_scene(la.SCENE.values(spans="moving"))[0]
+    mass = la.build(model).node("carriage").J
+    c_spec, a, d = model.stiffness * model.center_distance, model.center_distance, model.axis.pulley_diameter
+    assert c1["shaper_frequency"]["value"] == pytest.approx(
+        axis_frequency(c_spec, mass, a, d, model.start + model.travel), rel=1e-9)
+    assert c1["shaper_frequency_back"]["value"] == pytest.approx(axis_frequency(c_spec, mass, a, d, model.start),
+                                                                 rel=1e-9)
+    checks = {c["key"]: c["verdict"] for c in shaped["checks"]}
+    assert checks["settling"] == "pass"
+    assert {c["key"]: c["verdict"] for c in plain["checks"]}["settling"] == "FAIL"
+
+
+def test_motor_size_shapes_its_move_and_checks_the_settling():
+    code, stdout, stderr = cli("motor-size", "--shaper", "zv", "--settle-band", "0.05mm", "--json")
+    assert code == 0, stderr
+    d = json.loads(stdout)
+    assert d["shaper_frequency"]["unit"] == "Hz"
+    # ZV convolved for both ends: half a period of each mode
+    from beltcalc.design.sizing import axis_frequency
+
+    f_end = d["shaper_frequency"]["value"]
+    assert f_end == pytest.approx(axis_frequency(5.5e5, 50.0 + 0.0005746, 1.245, 0.12732395447351627, 1.1225),
+                                  rel=1e-3)
+    checks = {c["key"]: c for c in d["checks"]}
+    assert checks["settling"]["verdict"] == "pass"
+    assert checks["settling_back"]["verdict"] == "pass"

@@ -73,6 +73,8 @@ PARAMS = AXIS_PARAMS + [
     Param("shaper_at", None, "both (default: the modes where each move starts and stops, the two shapers "
           "convolved: what the move excites at its start rings on, lightly damped, to its stop) or end (the mode "
           "where it stops only).", required=False),
+    Param("static_force", "N", "A force on the carriage at standstill (a process force), for the static "
+          "positioning error.", required=False),
     Param("after_move", "s", "Simulated time after the move."),
     Param("step", "s", "Output step."),
     Param("settle_band", "m", "Following-error band for the settling time."),
@@ -625,6 +627,35 @@ def stop_rows(stops: list[Stop], band: float) -> list[Row]:
     return rows
 
 
+def static_sections(model: AxisModel, force: float | None, pretension: float) -> list[Section]:
+    """The static positioning error under ``force`` [N] on the carriage at standstill
+    (:mod:`beltcalc.design.positioning`: the two spans in parallel, each C_spec / L): at the
+    stroke's start and end and the worst place along it, and the pretension that keeps both
+    spans taut under the force either way, against ``pretension`` [N]."""
+    from beltcalc.design.positioning import along_stroke
+
+    if not force:
+        return []
+    a, d = model.center_distance, model.axis.pulley_diameter
+    c_spec = model.stiffness * a                       # k_TB = C_spec / a
+    ends = sorted((model.start, model.start + model.travel))
+    s = along_stroke(force, c_spec, a, d, np.linspace(ends[0], ends[1], 201))
+    at = {"start": model.start, "end": model.start + model.travel}
+    rows = []
+    for key, x in at.items():
+        k = int(np.argmin(np.abs(s.positions - x)))
+        rows.append(Row(f"static_error_{key}", f"carriage deflection at the stroke's {key}", float(s.stretch[k]), "m",
+                        "mm", note=f"span 1 {x * 1e3:.5g} mm; k = {float(s.span_stiffness[k]):.4g} N/m"))
+    rows += [
+        Row("static_error_worst", "  worst along the stroke", s.worst.stretch, "m", "mm",
+            note=f"span 1 {s.worst.span1 * 1e3:.5g} mm (closed form)"),
+        Row("static_pretension_needed", "pretension to keep both spans taut under +-F", s.least_pretension, "N",
+            note=f"the belt's F_t,peak {pretension:.4g} N"),
+    ]
+    title = f"static positioning error under {force:g} N (belt stretch, both spans; docs/positioning.md)"
+    return [Section(("static",), title, rows)]
+
+
 def settling_checks(stops: list[Stop], band: float, last: bool = True) -> list:
     """The settling check of each stop that a move follows (``last``: the run's final stop
     too, whose end is the run's): the settling time into ``band`` [m] against the stop's
@@ -757,6 +788,7 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
             Row("first_frequency", "first natural frequency", f1, "Hz"),
         ] + span_rows(model, values)),
         Section(("carriage",), "carriage", stop_rows(stops, values["settle_band"]) + shaper_rows(model)),
+        *static_sections(model, values.get("static_force"), report.tension_peak),
         Section(("motor",), f"motor {sizing.shown.motor.name}", [
             Row("torque_peak", "torque, peak (dynamic)", torque.peak, "N m", note=peak_note),
             Row("torque_peak_rigid", "torque, peak (motor-size, rigid)", duty.peak_torque, "N m",

@@ -549,16 +549,19 @@ def scene_timing(values: dict, **options) -> tuple[float, int]:
 
 def span_rows(model: AxisModel, values: dict) -> list[Row]:
     """First natural frequency with both belt paths counted, k = C_spec / L1 + C_spec / L2,
-    the carriage at the start, middle and end of a stroke centred on the span."""
-    a, stroke = values["center_distance"], values["stroke"]
-    if model.belt_model != "substitute" or stroke >= a:
+    the carriage at the start, middle and end of its move (moving spans: the model held
+    there, :func:`axis_mode`; the paper's one span: the same network with that stiffness)."""
+    a = model.center_distance
+    if model.belt_model != "substitute" or not (0 < model.start + model.travel < a):
         return []
     c_spec = model.stiffness * a                       # k_TB = C_spec / a
     rows = []
-    for key, label, where in (("start", "start", (a - stroke) / 2), ("mid", "middle", a / 2),
-                              ("end", "end", (a + stroke) / 2)):
-        k = span_stiffness(c_spec, a, model.axis.pulley_diameter, where)
-        f = first_frequency(build(replace(model, stiffness=k)))
+    for key, label, x in (("start", "start", 0.0), ("mid", "middle", model.travel / 2), ("end", "end", model.travel)):
+        k = span_stiffness(c_spec, a, model.axis.pulley_diameter, model.start + x)
+        if model.spans == "moving":
+            f = axis_mode(model, x)[0]
+        else:
+            f = first_frequency(build(replace(model, stiffness=k)))
         if f is None:
             continue
         rows.append(Row(f"first_frequency_spans_{key}", f"  with both spans, carriage at the {label}", f, "Hz",
@@ -785,7 +788,8 @@ def run(values: dict, cfg, substitute_mass_model: str = "eq7", motor: str | None
                 note="< 0: the slack span goes slack (the paper's eq. 10-11 criterion)"),
             Row("stiffness", "k_TB = C_spec / a", model.stiffness, "N/m"),
             Row("damping", "b_TB", model.damping, "N*s/m"),
-            Row("first_frequency", "first natural frequency", f1, "Hz"),
+            Row("first_frequency", "first natural frequency", f1, "Hz",
+                note="both spans, the carriage at the start" if model.spans == "moving" else "one span, k_TB"),
         ] + span_rows(model, values)),
         Section(("carriage",), "carriage", stop_rows(stops, values["settle_band"]) + shaper_rows(model)),
         *static_sections(model, values.get("static_force"), report.tension_peak),

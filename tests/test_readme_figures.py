@@ -112,6 +112,13 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "linear-axis": ("simulate", "linear-axis"),
     "linear-axis rayleigh": ("simulate", "linear-axis", "--substitute-mass-model", "rayleigh"),
     "linear-axis speed-loop": ("simulate", "linear-axis", "--drive", "speed-loop"),
+    "linear-axis moving": ("simulate", "linear-axis", "--set", "spans=moving", "--set", "cycle=out-and-back"),
+    "linear-axis moving zv end": ("simulate", "linear-axis", "--set", "spans=moving", "--set", "cycle=out-and-back",
+                                  "--set", "shaper=zv", "--set", "shaper_at=end"),
+    "linear-axis moving zv": ("simulate", "linear-axis", "--set", "spans=moving", "--set", "cycle=out-and-back",
+                              "--set", "shaper=zv"),
+    "linear-axis moving zvd": ("simulate", "linear-axis", "--set", "spans=moving", "--set", "cycle=out-and-back",
+                               "--set", "shaper=zvd"),
     "belt-drive": ("belt-drive",),
     "belt-drive carriage": ("belt-drive", "--carriage-length", "200mm", "--stroke", "800mm",
                             "--clamp-allowance", "50mm"),
@@ -749,6 +756,48 @@ FIGURES = on("docs/tension.md", [
 ])
 
 
+# the belt axis as it moves: the WDU axis with both spans following the carriage, out and back
+FIGURES += on("docs/belt_axis.md", [
+    F("linear-axis moving", "| first frequency, carriage at the start (span 1 122.5 mm) | 48.82 Hz |", "48.82",
+      J("belt/first_frequency_spans_start")),
+    F("linear-axis moving", "| first frequency, carriage at the start (span 1 122.5 mm) | 48.82 Hz |", "122.5",
+      lambda d: 1245.0 / 2 - 1000.0 / 2),
+    F("linear-axis moving", "| first frequency, carriage at the end (span 1 1122.5 mm): the lowest on the stroke | "
+      "20.64 Hz |", "20.64", J("belt/first_frequency_spans_end")),
+    F("linear-axis moving", "| first frequency, carriage at the end (span 1 1122.5 mm): the lowest on the stroke | "
+      "20.64 Hz |", "1122.5", lambda d: 1245.0 / 2 + 1000.0 / 2),
+    F("linear-axis moving", "| residual vibration after the move out, unshaped | 0.333 mm |", "0.333",
+      J("carriage/residual_amplitude", MM)),
+    F("linear-axis moving", "| residual vibration after the move back, unshaped | 0.186 mm |", "0.186",
+      J("carriage/residual_amplitude_back", MM)),
+    F("linear-axis moving", "| settling into 0.05 mm after the move out, unshaped | not within the dwell |",
+      "not within the dwell",
+      lambda d: "not within the dwell" if d["carriage"]["settling_time"]["value"] is None else "settled"),
+    F("linear-axis moving", "| settling into 0.05 mm after the move back, unshaped | 0.62 s |", "0.62",
+      J("carriage/settling_time_back")),
+    F("linear-axis moving zv end", "| residual after the move out, ZV for the mode where it stops only | 0.162 mm |",
+      "0.162", J("carriage/residual_amplitude", MM)),
+    F("linear-axis moving zv", "| residual after the move out, ZV for both ends (convolved) | 0.024 mm |", "0.024",
+      J("carriage/residual_amplitude", MM)),
+    F("linear-axis moving zvd", "| residual after the move out, ZVD for both ends | 0.0071 mm |", "0.0071",
+      J("carriage/residual_amplitude", MM)),
+    F("linear-axis moving zvd", "| time ZVD for both ends adds to each move | 68.9 ms |", "68.9",
+      J("carriage/shaper_time", MM)),
+    F("linear-axis moving", "| motor torque peak, dynamic: unshaped / ZVD | 3.58 / 2.04 N m |", "3.58",
+      J("motor/torque_peak")),
+    F("linear-axis moving zvd", "| motor torque peak, dynamic: unshaped / ZVD | 3.58 / 2.04 N m |", "2.04",
+      J("motor/torque_peak")),
+    F("linear-axis moving", "| static deflection under 50 N, carriage at the start / end | 0.0106 / 0.0595 mm |",
+      "0.0106", J("static/static_error_start", MM)),
+    F("linear-axis moving", "| static deflection under 50 N, carriage at the start / end | 0.0106 / 0.0595 mm |",
+      "0.0595", J("static/static_error_end", MM)),
+    F("linear-axis moving", "| static deflection under 50 N, carriage at the start / end | 0.0106 / 0.0595 mm |",
+      "50", J("inputs/static_force")),
+    F("linear-axis moving", "| pretension that keeps both spans taut under +-50 N | 47.7 N |", "47.7",
+      J("static/static_pretension_needed")),
+])
+
+
 # the README's tour: rows of each command's printed table, as the README shows them
 FIGURES += on("README.md", [
     F("tension", "│ peak belt force F_t,peak │ 505.1 │ N │", "505.1", J("tension_peak")),
@@ -1288,7 +1337,7 @@ RESULT_TABLES = {"README.md": None, "docs/tension.md": None, "docs/scenes.md": N
                  "docs/frequency_domain.md": None, "docs/studies.md": None, "docs/output.md": None,
                  "docs/catalogs.md": None, "docs/python.md": None,
                  "docs/motor_sizing.md": "## Using the command", "docs/design_checks.md": "## Using the commands",
-                 "docs/drive_files.md": "## Running a drive file"}
+                 "docs/drive_files.md": "## Running a drive file", "docs/belt_axis.md": "## The WDU axis"}
 
 
 def result_lines(page: str) -> list[str]:

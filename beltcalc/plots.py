@@ -289,6 +289,34 @@ def campbell_figure(campbell, title: str):
     return fig
 
 
+def stroke_map_figure(smap, title: str, band: tuple[float, float] | None = None, modes: int = 3):
+    """The resonance map of a :class:`~beltcalc.sim.stroke_map.StrokeMap`: the natural
+    frequency of each of its first ``modes`` modes against the carriage's position [mm], the
+    lowest first frequency marked, and an excitation ``band`` (low, high) [Hz] shaded (None:
+    none); ``title`` the drive's."""
+    import numpy as np
+
+    fig, axes = _subplots(1, 1, (8, 4.5))
+    ax = axes[0, 0]
+    x = smap.positions * 1e3
+    for k in range(min(modes, smap.modes)):
+        ax.plot(x, smap.frequency[:, k], "-" if x.size > 2 else "o-", lw=1.5, label=f"mode {k + 1}")
+    ax.plot([smap.lowest_at * 1e3], [smap.lowest], "o", color="tab:red", fillstyle="none", clip_on=False,
+            label=f"lowest: {smap.lowest:.4g} Hz at {smap.lowest_at * 1e3:.4g} mm")
+    if band is not None:
+        ax.axhspan(band[0], band[1], color="tab:orange", alpha=0.2, lw=0,
+                   label=f"excitation band {band[0]:.4g} to {band[1]:.4g} Hz")
+    top = float(np.nanmax(smap.frequency[:, :min(modes, smap.modes)]))
+    ax.set_ylim(0, 1.1 * max(top, band[1] if band is not None else 0.0))
+    ax.set_xlim(float(x[0]), float(x[-1]))
+    ax.set_xlabel(f"carriage position x [mm] (carriage belt {smap.belt!r}: span 1 = {smap.span1[0] * 1e3:.4g} mm + x)")
+    ax.set_ylabel("natural frequency [Hz]")
+    ax.set_title(f"{title}: modes along the stroke", fontsize=9)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    return fig
+
+
 def _unstack(fig, ax, texts) -> None:
     """Move the labels ``texts`` (one edge's, bottom-aligned) apart to at least one text height
     (in the figure's pixels) inside the axes' height; hide those that do not fit."""

@@ -258,6 +258,29 @@ def test_linear_axis_drive_file_is_the_scene():
         assert sampled == pytest.approx(exact, rel=2e-4) and sampled <= exact * (1 + 1e-12)
 
 
+def test_linear_axis_moving_drive_file_is_the_scene():
+    # the shipped file is what the scene writes for the WDU axis with moving spans (a carriage
+    # belt whose spans follow the carriage), and at the carriage's start its first natural
+    # frequency is the scene's network's (the belt held there)
+    import tomllib
+
+    import beltcalc
+    from beltcalc.sim.drivefile import to_toml
+    from beltcalc.sim.scenes import SCENES
+    from beltcalc.sim.scenes import linear_axis as la
+
+    values = SCENES["linear-axis"].values(spans="moving")
+    model = la.prepare_scene(values)[0]
+    data = la.drive_data(model)
+    t_end, samples = la.timing(values, model)
+    data["drive"].update(t_end=t_end, samples=samples, window=la.move_time(model))
+    shipped = tomllib.loads((DRIVES / "linear_axis_moving.toml").read_text())
+    assert shipped == tomllib.loads(to_toml(data))
+    assert "carriage_belt" in shipped
+    drive = beltcalc.load_drive("linear_axis_moving")
+    assert drive.network.modes()[0][0] == pytest.approx(la.first_frequency(la.build(model)), rel=1e-12)
+
+
 def test_work_precision_on_a_drive_file():
     obj = json.loads(ok(run("friswell_5_disks", "--work-precision", "--samples", "21", "--t-end", "2ms",
                             "--json")).stdout)

@@ -49,9 +49,12 @@ from beltcalc.sim import propagate as prop
 EPS = float(np.finfo(float).eps)
 # the built-in drives the old implementation can run: not those with elements that have modes of
 # their own (clutches, brakes, friction, torque limits, issue 31), which it predates: each sample's
-# mode is the run's, not one its state tells (tests/test_switched.py holds those to Radau)
+# mode is the run's, not one its state tells (tests/test_switched.py holds those to Radau); nor
+# those with a carriage belt whose spans follow the carriage (issue 32): nonlinear, no exact run
+# (tests/test_belt_axis.py holds it to Radau)
 DRIVES = sorted(p.stem for p in (Path(__file__).parent.parent / "catalogs" / "drives").glob("*.toml")
-                if not any(k in p.read_text() for k in ("[[clutch]]", "[[brake]]", "[[friction]]", "torque_limit")))
+                if not any(k in p.read_text() for k in ("[[clutch]]", "[[brake]]", "[[friction]]", "torque_limit",
+                                                        "[[carriage_belt]]")))
 
 
 # --- the implementation before issue 17, kept as it was ------------------------------------------

@@ -14,9 +14,10 @@ import math
 import click
 
 from beltcalc.cli.main import OPTION_NAMES, SCENE_OPTION
-from beltcalc.cli.options import DriveRef, FrequencyParam, OutputPath, catalog_option, output_options, quantity_option
-from beltcalc.cli.output import (console, dumps, format_number, inputs_json, require_matplotlib, table_csv, write_atomic,
-                                 write_figure, wrote)
+from beltcalc.cli.options import (BandParam, DriveRef, FrequencyParam, OutputPath, catalog_option, output_options,
+                                  quantity_option)
+from beltcalc.cli.output import (console, dumps, emit_warnings, format_number, inputs_json, require_matplotlib,
+                                 table_csv, write_atomic, write_figure, wrote)
 from beltcalc.plots import campbell_figure, modes_figure, response_figure
 from beltcalc.report import denoise, rpm
 
@@ -222,16 +223,33 @@ def _modes_csv(m, nodes: list[str]) -> str:
 
 @click.command("modes")
 @drive_options
-def modes(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path):
+@click.option("--along-stroke", "along_stroke", type=click.IntRange(2, 2000), default=None, metavar="N",
+              help="Map the modes along the stroke of the drive's carriage belt: N evenly spaced carriage "
+                   "positions (2..2000, both ends included), the lowest first frequency and where.")
+@click.option("--band", type=BandParam(), default=None,
+              help="With --along-stroke: the move's excitation band LOW:HIGH, e.g. 0:12Hz (roughly up to 1 / the "
+                   "acceleration time), shaded on the plot and checked against the modes [default: none].")
+def modes(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path, along_stroke, band):
     """Every pole of a drive (a drive file, or a built-in drive by name: conveyor, sewing
-    [default], roller_table, linear_axis, friswell_5_disks, friswell_geared): rigid-body modes,
-    oscillatory modes (natural and damped frequency, damping ratio), real poles (time
-    constant); the undamped natural frequencies; and each mode's shape: every node's amplitude
-    and phase against the largest, and every element that holds over 10 % of its strain energy
-    (the ones to stiffen), largest first. Strands taut, motor states included."""
+    [default], roller_table, linear_axis, linear_axis_moving, friswell_5_disks, friswell_geared):
+    rigid-body modes, oscillatory modes (natural and damped frequency, damping ratio), real
+    poles (time constant); the undamped natural frequencies; and each mode's shape: every
+    node's amplitude and phase against the largest, and every element that holds over 10 % of
+    its strain energy (the ones to stiffen), largest first. Strands taut, motor states
+    included.
+
+    With --along-stroke N, a drive with a carriage belt: its modes with the carriage held at N
+    positions along the stroke (frequencies, damping ratios, shapes), the lowest first
+    frequency and where."""
     from beltcalc.sim import frequency_report as fq
 
-    d = _drive(drive, assignments, catalog_paths, plot_path, modes_named=modes_named)
+    if band is not None and along_stroke is None:
+        raise click.BadParameter("a band is checked against the map along the stroke: give --along-stroke N too",
+                                 param_hint="--band")
+    d = _drive(drive, assignments, catalog_paths, plot_path, {"positions": "--along-stroke"}, modes_named)
+    if along_stroke is not None:
+        _stroke(d, along_stroke, band, plot_path, as_json, csv_path)
+        return
     m = fq.modes(d.network)
     nodes = [nd.name for nd in d.network.nodes]
     _emit(csv_path, plot_path, as_json, lambda: _modes_csv(m, nodes),
@@ -239,6 +257,21 @@ def modes(drive, assignments, catalog_paths, plot_path, modes_named, as_json, cs
           lambda: {"drive": d.title, "file": d.path, **({"mode": d.mode} if d.mode else {}), "modes": m.to_list(),
                    "undamped_frequencies": {"value": _floats(m.undamped), "unit": "Hz"}},
           lambda: (_mode_note(d), _print_modes(d, m)))
+
+
+def _stroke(d, positions: int, band, plot_path, as_json, csv_path) -> None:
+    """``modes --along-stroke``: the map of :func:`beltcalc.sim.stroke_map.stroke_map`, rendered by
+    :mod:`beltcalc.cli.stroke_map`."""
+    from beltcalc.cli import stroke_map as view
+    from beltcalc.plots import stroke_map_figure
+    from beltcalc.sim.stroke_map import stroke_map
+
+    view.check_drive(d.network)
+    s = stroke_map(d.network, positions)
+    _emit(csv_path, plot_path, as_json, lambda: view.to_csv(s),
+          lambda path: write_figure(stroke_map_figure(s, d.title, band, view.SHOWN), path),
+          lambda: view.to_dict(d, s, band), lambda: (_mode_note(d), view.show(d, s, band)))
+    emit_warnings(view.warnings(s, band))
 
 
 # --- frequency response ---------------------------------------------------------------------------------

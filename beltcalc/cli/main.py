@@ -59,7 +59,7 @@ SUMMARIES = {
     "belt-drive": "Geometry and the checks a designer signs off for a timing-belt drive.",
     "chain": "Roller-chain selection by the ACA power-rating formulas, with ISO 606 sprockets.",
     "modes": ("Every pole of a drive (a drive file, or a built-in drive by name: conveyor, sewing "
-              "[default], roller_table, linear_axis, friswell_5_disks, friswell_geared): rigid-body modes,"),
+              "[default], roller_table, linear_axis, linear_axis_moving, friswell_5_disks, friswell_geared):"),
     "response": ("The frequency response H(jw) of a drive (default: the sewing drive) from each input to "
                  "each output: magnitude in the output's unit per the input's unit, and phase,"),
     "campbell": ("The Campbell diagram of a drive (default: the sewing drive): where the excitation orders "

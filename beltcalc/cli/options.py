@@ -131,6 +131,38 @@ class FrequencyParam(QuantityParam):
             return hz
 
 
+class BandParam(click.ParamType):
+    """A frequency band ``LOW:HIGH`` -> (low, high) in Hz: each end a frequency as
+    :class:`FrequencyParam` reads it; a bare number at the low end takes the high end's unit
+    (``0:12Hz``, ``2Hz:12Hz``, ``0:600rpm``). 0 <= low < high, both finite."""
+
+    name = "band"
+
+    def get_metavar(self, param, ctx=None) -> str:  # click >= 8.2 passes ctx
+        return "LOW:HIGH"
+
+    def convert(self, value, param, ctx):
+        import re
+
+        if isinstance(value, tuple):
+            return value
+        low, sep, high = str(value).partition(":")
+        low, high = low.strip(), high.strip()
+        if not sep or not low or not high or ":" in high:
+            self.fail(f"{quote(value)}: give LOW:HIGH, e.g. 0:12Hz", param, ctx)
+        bare = r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?"
+        if re.fullmatch(bare, high):
+            self.fail(f"{quote(value)} needs a unit, e.g. {low}:{high}Hz", param, ctx)
+        number = re.match(bare, high)
+        if re.fullmatch(bare, low) and number:
+            low = low + high[number.end():]                  # 0:12Hz -> 0Hz, 12Hz
+        lo, hi = (FrequencyParam().convert(v, param, ctx) for v in (low, high))
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 <= lo < hi):
+            self.fail(f"{quote(value)}: the band must have 0 Hz <= LOW < HIGH, got {lo:g} Hz to {hi:g} Hz",
+                      param, ctx)
+        return (lo, hi)
+
+
 class OutputPath(click.ParamType):
     """A file to write, checked before any work: its name not too long for the file system;
     not a folder; a link followed to its target; a new file or one replaced in a folder that

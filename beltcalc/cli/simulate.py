@@ -482,7 +482,7 @@ def _linear_axis_command() -> click.Command:
 @catalog_option
 def drive(file, catalog_paths, **kw):
     """Your own drive train from a drive file (TOML; docs/drive_files.md), or a built-in one
-    by name (conveyor, sewing, roller_table, linear_axis, friswell_5_disks, friswell_geared;
+    by name (conveyor, sewing, roller_table, linear_axis, linear_axis_moving, friswell_5_disks, friswell_geared;
     catalogs/drives/): every node's speed, every
     coupling's and shaft's torque, every strand's extremes, slack time and safety, every
     motor's torque. Any value is --set ELEMENT.KEY=QUANTITY, e.g. --set upper.pretension=300N,

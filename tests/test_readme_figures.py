@@ -810,6 +810,12 @@ FIGURES += on("docs/belt_axis.md", [
 
 # the README's tour: rows of each command's printed table, as the README shows them
 FIGURES += on("README.md", [
+    F("linear-axis moving", "so its first mode falls from 48.8 Hz at the start of the WDU stroke to 20.6 Hz", "48.8",
+      J("belt/first_frequency_spans_start")),
+    F("linear-axis moving", "so its first mode falls from 48.8 Hz at the start of the WDU stroke to 20.6 Hz", "20.6",
+      J("belt/first_frequency_spans_end")),
+])
+FIGURES += on("README.md", [
     F("tension", "│ peak belt force F_t,peak │ 505.1 │ N │", "505.1", J("tension_peak")),
     F("tension", "│ pretension displacement x_max │ 1.143 │ mm │", "1.143", J("pretension_displacement", MM)),
     F("tension", "│ stiffness k_TB │ 441.8 │ N/mm │", "441.8", J("stiffness", 1e-3)),

@@ -106,8 +106,9 @@ class ModeShape:
 
 def mode_shapes(net, taut: tuple[bool, ...] | None = None) -> list[ModeShape]:
     """The shape of every oscillatory mode (as :func:`poles` orders them), from the
-    eigenvectors of A: node angles ``T v_phi``; strain energy of a coupling
-    ``C |g . v_phi|^2 / 2`` and of a taut strand ``c |G . v_phi|^2 / 2``.
+    eigenvectors of A: node angles ``T v_phi``; strain energy of each spring an element
+    stamps (a coupling, a carriage belt) ``C |g . v_phi|^2 / 2`` and of a taut strand
+    ``c |G . v_phi|^2 / 2``.
 
     >>> from beltcalc.sim.network import Coupling, Inertia, Network
     >>> net = Network([Inertia("a", 1.0), Inertia("b", 3.0)], [Coupling("c", "a", "b", 8.0, 0.0)])
@@ -120,7 +121,9 @@ def mode_shapes(net, taut: tuple[bool, ...] | None = None) -> list[ModeShape]:
     lam, vec = np.linalg.eig(A)
     floor = _floor(lam)
     n = net.n
-    springs = [(c.name, c.C, c.deflection(net)) for c in net.couplings if c.C]
+    # every spring an element stamps (couplings, a carriage belt held where it is, ...)
+    springs = [(getattr(el, "name", "") or type(el).__name__, C, g) for el in net.elements
+               for g, C, _ in el.matrices(net) if C]
     springs += [(s.name, s.stiffness, net._G[k]) for k, (s, on) in enumerate(zip(net.strands, taut)) if on]
     shapes = []
     for k in np.argsort(np.abs(lam)):
@@ -134,7 +137,9 @@ def mode_shapes(net, taut: tuple[bool, ...] | None = None) -> list[ModeShape]:
         rel = nodes / ref
         amplitude = {nd.name: float(abs(r)) for nd, r in zip(net.nodes, rel)}
         phase = {nd.name: -((180.0 - float(np.degrees(np.angle(r)))) % 360.0 - 180.0) for nd, r in zip(net.nodes, rel)}
-        energies = {name: 0.5 * C * abs(g @ phi) ** 2 for name, C, g in springs}
+        energies: dict[str, float] = {}
+        for name, C, g in springs:
+            energies[name] = energies.get(name, 0.0) + 0.5 * C * abs(g @ phi) ** 2
         total = sum(energies.values()) or 1.0
         energy = {name: e / total for name, e in energies.items()}
         dominant = max(energy, key=energy.get) if energy else ""

@@ -250,7 +250,8 @@ def _settling(sizing, inp, belt, opts, band: float, catalog_paths, as_json: bool
     (:func:`beltcalc.sim.scenes.linear_axis.settle_cycle`)."""
     from dataclasses import replace
 
-    from beltcalc.sim.scenes.linear_axis import settle_cycle, stop_rows
+    from beltcalc.sim.scenes.axis_settle import settle_cycle
+    from beltcalc.sim.scenes.axis_stops import stop_rows
 
     if band <= 0:
         raise click.BadParameter(f"{band * 1e3:g} mm is not allowed; the band must be > 0", param_hint="--settle-band")

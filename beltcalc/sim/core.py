@@ -21,19 +21,14 @@
   trap the design warns of on switching ones, where the call budget stops it.
 - ``auto``: ``exact`` where the network allows it; a nonlinear network without switches that
   is not stiff (an explicit method is stable in at most ``EXPLICIT_STEPS`` steps, its fastest
-  pole from the Jacobian at rest [HW96 sec. IV.2]) ``dop853``; else ``radau``; the result says why.
+  pole from the Jacobian at rest: :func:`beltcalc.sim.methods.choose_method`) ``dop853``; else
+  ``radau``; the result says why.
 
 Every run carries an error estimate per speed signal, in the signal's own unit, from a
 second computation that shares neither the rounding nor the partition of the first (see
 :func:`simulate`), plus a conditioning term. An estimate above the tolerance
 (``error_tol`` of the signal's scale) makes ``auto`` refine, then fall back to Radau with
 events; if nothing reaches it the run fails with one line, unless ``accept_error``.
-
-References:
-
-[HW96] E. Hairer, G. Wanner, Solving Ordinary Differential Equations II: Stiff and
-    Differential-Algebraic Problems, 2nd ed., Springer (1996): the stability domains of the
-    explicit Dormand-Prince methods [HW96 sec. IV.2].
 """
 
 from __future__ import annotations
@@ -43,7 +38,7 @@ import time
 import numpy as np
 
 from beltcalc.errors import InputError, SimulationError, require_positive
-from beltcalc.sim.methods import METHODS, NAMES, SolverConfig
+from beltcalc.sim.methods import METHODS, SolverConfig, choose_method
 from beltcalc.sim.network import Network
 from beltcalc.sim.propagate import one_piece, propagate, reference_rows
 from beltcalc.sim.result import SimResult
@@ -55,7 +50,6 @@ __all__ = ["SolverConfig", "simulate", "choose_method", "conditioning", "estimat
 MAX_PHASE = 1e-3 / EPS  # rad: an input's phase w t_end beyond which a float holds it to worse than 1 mrad
 
 FALLBACK_SECONDS = 30.0     # computing time auto's Radau fallback may take
-EXPLICIT_STEPS = 2e4        # stable explicit steps up to which auto runs a nonlinear network on DOP853
 RADAU_FALLBACK_WORK = 2e6   # strand events x states^2 above which auto's Radau fallback is not tried
 REFINE_WORK = 1e10          # strand events x states^2 above which auto does not refine the exact run (4x its
                             # cost: 200 rollers, 14,300 events x 1,605 states, would take 10 minutes more)
@@ -185,42 +179,6 @@ def run_exact(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig
     else:
         x[wanted] = propagate(F, z0, dt, t.size, parts, wanted, scale=balancing)
     return x, t.size - 1, 0, {}
-
-
-def explicit_steps(network: Network, t_end: float) -> float:
-    """The fewest steps an explicit method (DOP853) takes over ``t_end`` [s] for stability:
-    the linear part's spectral radius (its fastest pole, the nonlinear terms' Jacobian at
-    rest included) times ``t_end`` over the stability bound of DOP853, about 3.3 on the
-    negative real axis [HW96 sec. IV.2]."""
-    A, _ = network.first_order(None, 0.0)
-    if not network.linear:
-        A = A + network.nonlinear_jacobian(network.initial_state())
-    radius = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
-    return radius * t_end / 3.3
-
-
-def choose_method(network: Network, requested: str, t_end: float | None = None) -> tuple[str, str]:
-    """The method to run and why. A nonlinear network that is not stiff over ``t_end``
-    (an explicit method needs at most :data:`EXPLICIT_STEPS` steps for stability) runs on
-    DOP853, else on Radau."""
-    if requested == "auto":
-        if network.linear and network.smooth:
-            return "exact", "auto: the network is linear with inputs in time, so its exact solution is used"
-        if network.linear:
-            return "exact", ("auto: the network is linear between strand switches and time break points, so it "
-                             "is propagated exactly and each switch is located on the exact solution")
-        why = sorted({getattr(el, "nonlinear_reason", "loads locked to a shaft angle")
-                      for el in network.elements if el.nonlinear_kind})
-        if t_end is not None and not network.strands and not network.switched:
-            steps = explicit_steps(network, t_end)
-            if steps <= EXPLICIT_STEPS:
-                return "dop853", (f"auto: {'; '.join(why)}: the network is nonlinear and not stiff (stable explicit "
-                                  f"steps from {steps:.3g}), so DOP853 (explicit, order 8)")
-        return "radau", (f"auto: {'; '.join(why)}: the network is nonlinear; implicit Radau with the analytic "
-                         "Jacobian")
-    if requested not in METHODS:
-        raise InputError(f"{requested!r} is not a method; use one of {', '.join(NAMES)}", param="method")
-    return requested, "requested"
 
 
 def simulate(network: Network, t_end: float, samples: int, cfg: SolverConfig = SolverConfig(),

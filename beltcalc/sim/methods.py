@@ -2,7 +2,13 @@
 dispatches on it, the CLI's ``--method`` choices and the work-precision tables read it, and
 a new method is one record here. Nothing is imported at module level but the standard
 library: a record names its runner as ``"module:function"``, imported on its first run (the
-exact path never loads scipy).
+exact path never loads scipy). :func:`choose_method` picks one for a network.
+
+References:
+
+[HW96] E. Hairer, G. Wanner, Solving Ordinary Differential Equations II: Stiff and
+    Differential-Algebraic Problems, 2nd ed., Springer (1996): the stability domains of the
+    explicit Dormand-Prince methods [HW96 sec. IV.2].
 
 >>> [m.name for m in METHODS.values() if m.explicit]
 ['rk45', 'dop853']
@@ -76,3 +82,46 @@ METHODS: dict[str, Method] = {m.name: m for m in (
 
 #: every name ``method`` takes: ``auto`` (exact where the network allows it, else radau) and the registry's
 NAMES: tuple[str, ...] = ("auto", *METHODS)
+
+
+EXPLICIT_STEPS = 2e4        # stable explicit steps up to which auto runs a nonlinear network on DOP853
+
+
+def explicit_steps(network, t_end: float) -> float:
+    """The fewest steps an explicit method (DOP853) takes over ``t_end`` [s] for stability:
+    the linear part's spectral radius (its fastest pole, the nonlinear terms' Jacobian at
+    rest included) times ``t_end`` over the stability bound of DOP853, about 3.3 on the
+    negative real axis [HW96 sec. IV.2]."""
+    import numpy as np
+
+    A, _ = network.first_order(None, 0.0)
+    if not network.linear:
+        A = A + network.nonlinear_jacobian(network.initial_state())
+    radius = float(np.max(np.abs(np.linalg.eigvals(A)))) if A.size else 0.0
+    return radius * t_end / 3.3
+
+
+def choose_method(network, requested: str, t_end: float | None = None) -> tuple[str, str]:
+    """The method to run and why. A nonlinear network that is not stiff over ``t_end``
+    (an explicit method needs at most :data:`EXPLICIT_STEPS` steps for stability) runs on
+    DOP853, else on Radau."""
+    if requested == "auto":
+        if network.linear and network.smooth:
+            return "exact", "auto: the network is linear with inputs in time, so its exact solution is used"
+        if network.linear:
+            return "exact", ("auto: the network is linear between strand switches and time break points, so it "
+                             "is propagated exactly and each switch is located on the exact solution")
+        why = sorted({getattr(el, "nonlinear_reason", "loads locked to a shaft angle")
+                      for el in network.elements if el.nonlinear_kind})
+        if t_end is not None and not network.strands and not network.switched:
+            steps = explicit_steps(network, t_end)
+            if steps <= EXPLICIT_STEPS:
+                return "dop853", (f"auto: {'; '.join(why)}: the network is nonlinear and not stiff (stable explicit "
+                                  f"steps from {steps:.3g}), so DOP853 (explicit, order 8)")
+        return "radau", (f"auto: {'; '.join(why)}: the network is nonlinear; implicit Radau with the analytic "
+                         "Jacobian")
+    if requested not in METHODS:
+        from beltcalc.errors import InputError
+
+        raise InputError(f"{requested!r} is not a method; use one of {', '.join(NAMES)}", param="method")
+    return requested, "requested"

@@ -293,10 +293,11 @@ def stroke_map_figure(smap, title: str, band: tuple[float, float] | None = None,
     """The resonance map of a :class:`~beltcalc.sim.stroke_map.StrokeMap`: the natural
     frequency of each of its first ``modes`` modes against the carriage's position [mm], the
     lowest first frequency marked, and an excitation ``band`` (low, high) [Hz] shaded (None:
-    none); ``title`` the drive's."""
+    none); below it the static deflection per newton on the carriage, 1 / k; ``title`` the
+    drive's."""
     import numpy as np
 
-    fig, axes = _subplots(1, 1, (8, 4.5))
+    fig, axes = _subplots(2, 1, (8, 6.5))
     ax = axes[0, 0]
     x = smap.positions * 1e3
     for k in range(min(modes, smap.modes)):
@@ -309,10 +310,18 @@ def stroke_map_figure(smap, title: str, band: tuple[float, float] | None = None,
     top = float(np.nanmax(smap.frequency[:, :min(modes, smap.modes)]))
     ax.set_ylim(0, 1.1 * max(top, band[1] if band is not None else 0.0))
     ax.set_xlim(float(x[0]), float(x[-1]))
-    ax.set_xlabel(f"carriage position x [mm] (carriage belt {smap.belt!r}: span 1 = {smap.span1[0] * 1e3:.4g} mm + x)")
     ax.set_ylabel("natural frequency [Hz]")
     ax.set_title(f"{title}: modes along the stroke", fontsize=9)
     ax.legend(fontsize=7, loc="best")
+    # the static positioning error per newton on the carriage: the belt's compliance 1 / k
+    low = axes[1, 0]
+    low.plot(x, 1e6 / smap.stiffness, "-", lw=1.5, color="tab:green")
+    low.set_xlim(float(x[0]), float(x[-1]))
+    low.set_ylim(0, None)
+    low.set_ylabel("static deflection [um/N]")
+    low.set_xlabel(f"carriage position x [mm] (carriage belt {smap.belt!r}: span 1 = {smap.span1[0] * 1e3:.4g} mm + x)")
+    low.set_title("static positioning error per newton on the carriage: 1 / k, both spans (docs/positioning.md)",
+                  fontsize=9)
     fig.tight_layout()
     return fig
 

@@ -142,7 +142,8 @@ def test_linear_axis_figures(linear_axis, key, expected):
 def test_linear_axis_notes_name_library_parameters(linear_axis):
     assert report(linear_axis)[("carriage", "settling_time")] is None
     # a warning, naming the library parameter in backquotes (the CLI maps it to --set after_move)
-    assert "the carriage has not settled by the end of the run: raise `after_move`" in linear_axis.result.warnings
+    assert "the carriage has not settled at the end of the stroke by 2.1 s: raise `after_move`" in \
+        linear_axis.result.warnings
     assert not any("--" in w for w in linear_axis.result.warnings + linear_axis.notes)
 
 

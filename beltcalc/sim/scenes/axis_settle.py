@@ -14,7 +14,7 @@ def settle_cycle(inp, belt, motor, opts, band: float, catalog=None, cfg=None):
     belt's two spans following the carriage, the motor an ideal servo, the move ``opts``
     (shaped as motor-size shapes it), the belt's stiffness and damping as ``beltcalc tension``
     finds them (the linear-axis scene's thread and tensioning values). Returns (stops
-    (:class:`Stop`), the settling checks, the run) or raises :class:`InputError` where the
+    (:class:`~beltcalc.sim.scenes.axis_stops.Stop`), the settling checks, the run) or raises :class:`InputError` where the
     cycle is not one horizontal move."""
     from beltcalc.data.catalogs import load_catalog
     from beltcalc.design.tension import TensionInputs

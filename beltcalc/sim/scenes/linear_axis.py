@@ -45,8 +45,11 @@ from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.axis_stops import (extremes, moves, phase_starts, reference_position, reference_tables,
                                             settling_checks, shaper_rows, static_sections, stop_figures, stop_rows)
+from beltcalc.sim.scenes import axis_stops
 from beltcalc.sim.scenes.base import Outcome, Scene, scene_values
 from beltcalc.design.axis_inputs import PARAMS as AXIS_PARAMS
+
+move_time = axis_stops.move_time     # the end of the first move, where the scene's users look for it
 
 DRIVES = ("prescribed", "speed-loop")
 BELT_MODELS = ("substitute", "chain")

@@ -5,9 +5,9 @@ against the linear spring it is when held."""
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import math
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +17,6 @@ from numpy.testing import assert_allclose
 from beltcalc.sim.core import simulate
 from beltcalc.sim.elements import Coupling, Inertia, Load, Prescribed
 from beltcalc.sim.elements.carriage_belt import CarriageBelt, held_at
-from beltcalc.sim.methods import SolverConfig
 from beltcalc.sim.network import Network
 
 DATA = Path(__file__).parent / "data"
@@ -37,6 +36,16 @@ def cli(*args: str):
 
 
 def reference_move(t: np.ndarray, pretension: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`solve_reference` on the samples ``t`` (computed once per grid and pretension)."""
+    return _reference(tuple(np.round(t, 12)), pretension)
+
+
+@functools.cache
+def _reference(t: tuple, pretension: float | None):
+    return solve_reference(np.array(t), pretension)
+
+
+def solve_reference(t: np.ndarray, pretension: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The constant-speed move of ``belt_axis_move.toml`` written out: m x'' = F, the belt at the
     pulley at r w t, each span k = C/L, b = B/L on its length now; with a pretension each span
     tension-only. scipy Radau at rtol 1e-11 (the kinks of a slack span: events at each span's
@@ -81,6 +90,7 @@ def move_network(pretension: float | None = None, moving: bool = True) -> Networ
                     CarriageBelt("belt", "pulley", "carriage", R, C_SPEC, B_SPEC, L1, L2, pretension, 0.6, moving)])
 
 
+@pytest.mark.slow
 def test_a_constant_speed_move_through_the_cli_matches_radau_on_the_same_equations(tmp_path):
     """``beltcalc simulate drive`` on the moving spans: position, speed and belt force against the
     equations solved by Radau at rtol 1e-11, within the run's own error estimate."""
@@ -103,10 +113,11 @@ def test_a_constant_speed_move_through_the_cli_matches_radau_on_the_same_equatio
     assert_allclose(got["k_belt_N_per_m"], C_SPEC * (1 / (L1 + x) + 1 / (L2 - x)), rtol=1e-8)
 
 
+@pytest.mark.slow
 def test_the_error_estimate_covers_every_signal():
     """The run's estimate per signal (speed and belt force) against the written-out Radau."""
     net = move_network()
-    res = simulate(net, 1.0, 2001)
+    res = simulate(net, 0.5, 1001)
     x, v, F = reference_move(res.t)
     for name, ref in (("v_carriage", v), ("F_belt", F)):
         true = float(np.abs(res[name] - ref).max())
@@ -115,11 +126,12 @@ def test_the_error_estimate_covers_every_signal():
         assert res.errors[name] <= 10 * true + 1e-12, name
 
 
+@pytest.mark.slow
 def test_tension_only_spans_go_slack_as_the_written_out_equations_do():
     """A pretension below the force the move needs: span 1 goes slack and takes up again; the
     clipped equations by Radau at rtol 1e-11 (steps of at most 1 ms)."""
     net = move_network(pretension=300.0)
-    res = simulate(net, 1.0, 2001)
+    res = simulate(net, 0.5, 1001)
     x, v, F = reference_move(res.t, pretension=300.0)
     assert float(res["F_belt_1"].min()) == pytest.approx(0.0, abs=1e-12)      # it went slack
     assert_allclose(res["v_carriage"], v, rtol=0, atol=max(1e-6, 2 * res.errors["v_carriage"]))
@@ -171,7 +183,7 @@ def test_held_at_a_position_the_network_has_the_two_spring_frequency():
 
 
 def test_a_carriage_that_reaches_a_pulley_fails_in_one_line(tmp_path):
-    text = MOVE.read_text().replace('t_end = "1.0 s"', 't_end = "20 s"').replace('samples = 2001', 'samples = 201')
+    text = MOVE.read_text().replace('t_end = "0.5 s"', 't_end = "20 s"').replace('samples = 1001', 'samples = 201')
     path = tmp_path / "far.toml"
     path.write_text(text)
     code, _, stderr = cli("simulate", "drive", str(path))

@@ -169,7 +169,8 @@ def ahead(F: np.ndarray, z: np.ndarray, h: float) -> np.ndarray:
 def counting(name: str, counter: list[int]):
     """scipy's solver class ``name``, counting its accepted steps in ``counter[0]``
     (solve_ivp reports right-hand-side calls, not steps; each ``step()`` call that does
-    not fail is one accepted step)."""
+    not fail is one accepted step) and keeping in ``counter[1]`` the step it would take next
+    (a restart after an event starts there, not from scratch)."""
     import scipy.integrate
 
     base = getattr(scipy.integrate, name)
@@ -179,6 +180,7 @@ def counting(name: str, counter: list[int]):
             message = super().step()
             if self.status != "failed":
                 counter[0] += 1
+                counter[1] = getattr(self, "h_abs", None)      # the step it would take next
             return message
 
     Counting.__name__ = name
@@ -187,85 +189,142 @@ def counting(name: str, counter: list[int]):
 
 def ivp(name: str, uses_jac: bool):
     def run(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
-        from scipy.integrate import solve_ivp    # here, not at the top: the exact path needs none of it
-
         budget = new_budget(cfg, t[-1])
-        steps = [0]
+        steps = [0, None]
         solver = counting(name, steps)
-        N, m, t_end = t.size, network.size, t[-1]
-        eps = 1e-9 * (t[1] - t[0])
-        starts = network.segment_starts(t_end)
-        ends = starts[1:] + [math.inf]
         x = np.asarray(x0, dtype=float)
+        starts = network.segment_starts(t[-1])
         sw = Switches(network, np.concatenate([x, network.generators(0.0)]), cfg, name.lower(), t[1] - t[0],
-                      network.piece_time(0, starts, t_end))
+                      network.piece_time(0, starts, t[-1]))
         if network.switched:
-            x = sw.z[:m]                 # the stuck joints' speeds settled
-        out = np.empty((m, N))
-        out[:, 0] = x
-        k, t_cur, skip = 0, 0.0, ()
-        stats = {"nfev": 0, "njev": 0, "nlu": 0}
-        while k < N - 1:
-            seg = network.segment(t_cur + eps, starts)
-            t_stop = min(ends[seg], t_end)
-            mid = network.piece_time(seg, starts, t_end)
-            rhs, jac = _system(network, sw.taut, mid, budget)
-            events = []
-            gen = generators(network)
-            switching = network.events(sw.taut) + network.switched_events(sw.taut, mid)
-            for j, ev in enumerate(switching):
-                def fn(tt, xx, row=ev.row, start=t_cur, again=j in skip, sign=ev.direction):
-                    value = row[:m] @ xx + row[m:] @ gen(tt)
-                    # a function that just fired without a switch restarts past its surface
-                    return sign * max(abs(value), 1e-300) if again and tt == start else value
-                fn.terminal, fn.direction = True, ev.direction
-                events.append(fn)
-            last = int(np.searchsorted(t, t_stop + eps, side="right")) - 1
-            t_eval = [min(tt, t_stop) for tt in t[k + 1:last + 1]]   # a sample within eps past the break
-            if not t_eval or abs(t_eval[-1] - t_stop) > eps:
-                t_eval.append(t_stop)
-            kwargs = {"jac": jac} if uses_jac else {}
-            try:
-                sol = solve_ivp(rhs, (t_cur, t_stop), x, method=solver, t_eval=t_eval, rtol=cfg.rtol,
-                                atol=cfg.atol, events=events or None, **kwargs)
-            except Budget as stop:
-                raise SimulationError(budget_message(name, stop.args[0], cfg, budget, network)) from None
-            except ValueError as exc:
-                # scipy's event location (brentq on the step's interpolant) meets a function that
-                # changed sign between the step's points but not on the interpolant
-                raise SimulationError(f"method {name.lower()}: scipy's event location failed after t = "
-                                      f"{t_cur:.6g} s ({exc}); try another `rtol`, or method exact") from None
-            for key in stats:
-                stats[key] += int(getattr(sol, key))
-            if sol.status < 0:
-                reached = sol.t[-1] if sol.t.size else t_cur
-                raise SimulationError(f"method {name.lower()} failed at t = {reached:.6g} s: {sol.message}; "
-                                      "try `method` radau or bdf, or looser `rtol`/`atol`")
-            grid = [j for j, tt in enumerate(sol.t) if k + 1 + j <= last and abs(tt - t[k + 1 + j]) <= eps]
-            for j in grid:
-                out[:, k + 1 + j] = sol.y[:, j]
-            k += len(grid)
-            if sol.status == 1:
-                fired = [(te[0], j) for j, te in enumerate(sol.t_events) if te.size]
-                t_e, j = min(fired)
-                x = sol.y_events[j][0]
-                z = np.concatenate([x, network.generators(t_e)])
-                ev = switching[j]
-                before = sw.taut
-                sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0], mid)
-                if network.switched:
-                    x = sw.z[:m]
-                skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())
-                t_cur = t_e
-            else:
-                t_cur, x, skip = t_stop, sol.y[:, -1], ()
-                if network.switched and t_cur < t_end:     # the inputs change piece: re-decide
-                    seg = network.segment(t_cur + eps, starts)
-                    sw.restart(t_cur, np.concatenate([x, network.generators(t_cur)]), t[1] - t[0],
-                               network.piece_time(seg, starts, t_end))
-                    x = sw.z[:m]
-        return out, steps[0], stats["nfev"], {"jacobians": stats["njev"], "lu": stats["nlu"], **sw.info(t_end)}
+            x = sw.z[:network.size]          # the stuck joints' speeds settled
+        network.pieces = {el.name: el.piece_at(network, x) for el in network.piecewise}
+        try:
+            return _ivp_loop(network, t, x, cfg, name, uses_jac, budget, steps, solver, sw)
+        finally:
+            network.pieces = {}
     return run
+
+
+def _piece_events(network, skip: tuple, t_cur: float) -> tuple[list, list]:
+    """The event functions that end the elements' smooth pieces (a polygon strand's seating or
+    slack switch), first in the event list, and their owners."""
+    events, owners = [], []
+    for el in network.piecewise:
+        for fn, direction in el.piece_events(network, network.pieces[el.name]):
+            j = len(events)
+
+            def ev(tt, xx, fn=fn, again=j in skip, start=t_cur, sign=direction):
+                value = fn(xx)
+                return sign * max(abs(value), 1e-300) if again and tt == start else value
+            ev.terminal, ev.direction = True, direction
+            events.append(ev)
+            owners.append(el)
+    return events, owners
+
+
+def _ivp_loop(network, t, x, cfg, name, uses_jac, budget, steps, solver, sw):
+    """The integration of :func:`ivp`'s run from the state ``x``: solve_ivp from time break
+    to time break, restarted at every event (a strand's or switched element's switch, the end
+    of an element's smooth piece)."""
+    from scipy.integrate import solve_ivp    # here, not at the top: the exact path needs none of it
+
+    N, m, t_end = t.size, network.size, t[-1]
+    eps = 1e-9 * (t[1] - t[0])
+    starts = network.segment_starts(t_end)
+    ends = starts[1:] + [math.inf]
+    out = np.empty((m, N))
+    out[:, 0] = x
+    k, t_cur, skip = 0, 0.0, ()
+    stats = {"nfev": 0, "njev": 0, "nlu": 0}
+    ended = 0       # the elements' smooth pieces ended
+    slack = {el.name: [0.0, None if el.taut_in(network.pieces[el.name]) else 0.0] for el in network.piecewise}
+    while k < N - 1:
+        seg = network.segment(t_cur + eps, starts)
+        t_stop = min(ends[seg], t_end)
+        mid = network.piece_time(seg, starts, t_end)
+        rhs, jac = _system(network, sw.taut, mid, budget)
+        gen = generators(network)
+        events, owners = _piece_events(network, skip, t_cur)
+        first = len(events)
+        switching = network.events(sw.taut) + network.switched_events(sw.taut, mid)
+        for j, ev in enumerate(switching, start=first):
+            def fn(tt, xx, row=ev.row, start=t_cur, again=j in skip, sign=ev.direction):
+                value = row[:m] @ xx + row[m:] @ gen(tt)
+                # a function that just fired without a switch restarts past its surface
+                return sign * max(abs(value), 1e-300) if again and tt == start else value
+            fn.terminal, fn.direction = True, ev.direction
+            events.append(fn)
+        last = int(np.searchsorted(t, t_stop + eps, side="right")) - 1
+        t_eval = [min(tt, t_stop) for tt in t[k + 1:last + 1]]   # a sample within eps past the break
+        if not t_eval or abs(t_eval[-1] - t_stop) > eps:
+            t_eval.append(t_stop)
+        kwargs = {"jac": jac} if uses_jac else {}
+        if steps[1] and t_cur > 0:      # after an event the step the solver had reached
+            kwargs["first_step"] = min(steps[1], t_stop - t_cur)
+        try:
+            sol = solve_ivp(rhs, (t_cur, t_stop), x, method=solver, t_eval=t_eval, rtol=cfg.rtol,
+                            atol=cfg.atol, events=events or None, **kwargs)
+        except Budget as stop:
+            raise SimulationError(budget_message(name, stop.args[0], cfg, budget, network)) from None
+        except ValueError as exc:
+            # scipy's event location (brentq on the step's interpolant) meets a function that
+            # changed sign between the step's points but not on the interpolant
+            raise SimulationError(f"method {name.lower()}: scipy's event location failed after t = "
+                                  f"{t_cur:.6g} s ({exc}); try another `rtol`, or method exact") from None
+        for key in stats:
+            stats[key] += int(getattr(sol, key))
+        if sol.status < 0:
+            reached = sol.t[-1] if sol.t.size else t_cur
+            raise SimulationError(f"method {name.lower()} failed at t = {reached:.6g} s: {sol.message}; "
+                                  "try `method` radau or bdf, or looser `rtol`/`atol`")
+        grid = [j for j, tt in enumerate(sol.t) if k + 1 + j <= last and abs(tt - t[k + 1 + j]) <= eps]
+        for j in grid:
+            out[:, k + 1 + j] = sol.y[:, j]
+        k += len(grid)
+        if sol.status == 1:
+            fired = [(te[0], j) for j, te in enumerate(sol.t_events) if te.size]
+            t_e, j = min(fired)
+            x = sol.y_events[j][0]
+            if j < first:       # an element's piece ends: decide its next just after t_e
+                el = owners[j]
+                was = network.pieces[el.name]
+                network.pieces[el.name] = el.piece_at(network, x + 1e-6 * (t[1] - t[0]) * rhs(t_e, x))
+                skip = (skip if t_e == t_cur else ()) + ((j,) if network.pieces[el.name] == was else ())
+                ended += 1
+                _slack_change(slack[el.name], el.taut_in(network.pieces[el.name]), t_e)
+                t_cur = t_e
+                continue
+            z = np.concatenate([x, network.generators(t_e)])
+            ev = switching[j - first]
+            before = sw.taut
+            sw.switch(ev.strand, t_e, z, augmented_matrix(network, sw.taut, mid), t[1] - t[0], mid)
+            if network.switched:
+                x = sw.z[:m]
+            skip = (skip if t_e == t_cur else ()) + ((j,) if sw.taut == before else ())
+            t_cur = t_e
+        else:
+            t_cur, x, skip = t_stop, sol.y[:, -1], ()
+            if network.switched and t_cur < t_end:     # the inputs change piece: re-decide
+                seg = network.segment(t_cur + eps, starts)
+                sw.restart(t_cur, np.concatenate([x, network.generators(t_cur)]), t[1] - t[0],
+                           network.piece_time(seg, starts, t_end))
+                x = sw.z[:m]
+    info = {"jacobians": stats["njev"], "lu": stats["nlu"], **sw.info(t_end)}
+    if network.piecewise:
+        info["pieces_ended"] = ended
+        for name, (spent, since) in slack.items():      # each piecewise element's time slack, from its pieces
+            info["slack_time"][name] = spent + (t_end - since if since is not None else 0.0)
+    return out, steps[0], stats["nfev"], info
+
+
+def _slack_change(acc: list, taut: bool, t: float) -> None:
+    """Account a piece change at ``t`` in ``acc`` = [time slack so far, slack since (None: taut)]."""
+    if taut and acc[1] is not None:
+        acc[0] += t - acc[1]
+        acc[1] = None
+    elif not taut and acc[1] is None:
+        acc[1] = t
 
 
 def odeint_run(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):

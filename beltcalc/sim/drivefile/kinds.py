@@ -365,6 +365,12 @@ class ChainStrandKind(Kind):
         "breaking_load": Quantity("N", help="breaking load, instead of the catalog's", low=">0"),
         "damping": Quantity("N*s/m", help="b", low=">=0"),
         "damping_time": Quantity("s", help="stiffness-proportional damping b = beta c", low=">=0"),
+        "polygon": Flag(help="true: the strand's length follows the sprockets' tooth polygons (the polygon action; "
+                             "both nodes need teeth); false (default): round sprockets of the pitch diameter"),
+        "phase_from": Quantity("rad", help="with polygon: the seated roller's angle past the strand's tangent point "
+                                           "on the `from` sprocket at rest (default 0)"),
+        "phase_to": Quantity("rad", help="with polygon: the same on the `to` sprocket (default: the span's fraction "
+                                         "of a pitch, as that fraction of a tooth)"),
     }
 
     @classmethod
@@ -378,9 +384,39 @@ class ChainStrandKind(Kind):
         c = strand_stiffness(b.need(e, "stiffness"), length)
         beta = b.get(e, "damping_time")
         damping = b.get(e, "damping", 0.0) if beta is None else beta * c
-        b.add(Strand(e.name, i, j, r_i, r_j, c, damping, b.get(e, "pretension", 0.0)))
+        if b.get(e, "polygon", False):
+            b.add(cls.polygon(b, e, chain, (i, r_i), (j, r_j), length, c, damping))
+        else:
+            for key in ("phase_from", "phase_to"):
+                if e.raw.get(key) is not None:
+                    b.fail(e, key, "a phase needs `polygon = true`")
+            b.add(Strand(e.name, i, j, r_i, r_j, c, damping, b.get(e, "pretension", 0.0)))
         b.limits[e.name] = (b.get(e, "breaking_load", chain.breaking_load), "breaking load")
         b.strand_mass(e, (i, r_i), (j, r_j), b.get(e, "mass", chain.mass), length)
+
+    @staticmethod
+    def polygon(b, e: Entry, chain, end_i, end_j, length: float, c: float, damping: float):
+        """The strand with the polygon action (:class:`~beltcalc.sim.elements.polygon.PolygonStrand`):
+        each end's sprocket by its teeth on this strand's chain (its pitch radius must be that
+        chain's on those teeth)."""
+        from beltcalc.formulas.chain import sprocket_pitch_diameter
+        from beltcalc.sim.elements.polygon import PolygonStrand
+
+        teeth = []
+        for key, (node, r) in (("from", end_i), ("to", end_j)):
+            raw = b.node_entries[node].raw
+            z = raw.get("teeth")
+            if z is None or raw.get("mass") is not None:
+                b.fail(e, "polygon", f"the polygon action needs the sprocket's teeth: give node {node!r} `teeth` "
+                                     f"and `chain`")
+            d = sprocket_pitch_diameter(chain.pitch, int(z))
+            if abs(d / 2 - r) > 1e-9 * d:
+                b.fail(e, "polygon", f"node {node!r} has a pitch diameter of {2 * r * 1e3:.6g} mm, not that of "
+                                     f"{int(z)} teeth on {chain.name} ({d * 1e3:.6g} mm): give it `chain = "
+                                     f"\"{chain.name}\"`")
+            teeth.append(int(z))
+        return PolygonStrand(e.name, end_i[0], end_j[0], chain.pitch, teeth[0], teeth[1], length, c, damping,
+                             b.get(e, "pretension", 0.0), b.get(e, "phase_from"), b.get(e, "phase_to"))
 
 
 class LoadKind(Kind):

@@ -114,6 +114,11 @@ class Network(StrandModes, SwitchedModes):
         self._K0, self._D0 = self._assemble()
         self._G = np.array([s.geometry(self) for s in self.strands]).reshape(len(self.strands), self.n)
         self._cache: dict = {}
+        #: the smooth piece each element with pieces (``pieces`` True: a polygon strand's seated
+        #: rollers and slack state) is held on while a solver with events integrates it; empty:
+        #: each finds its own at every state
+        self.pieces: dict = {}
+        self.piecewise = [el for el in self.elements if getattr(el, "pieces", False)]
         self._rows = None
         self._stamps = None
         self._joints: dict = {}
@@ -203,6 +208,13 @@ class Network(StrandModes, SwitchedModes):
     def ramp(self) -> bool:
         """True when a piecewise-linear input needs the generator ``t``."""
         return self._ramp
+
+    @property
+    def tension_strands(self) -> list:
+        """Every strand a report shows with its force ``F_<name>``: the switched strands, then
+        the elements that are tension-only strands of their own (``tension_only``: a polygon
+        strand)."""
+        return list(self.strands) + [el for el in self.elements if getattr(el, "tension_only", False)]
 
     @property
     def smooth(self) -> bool:

@@ -106,11 +106,11 @@ def _run(drive_file, catalog, values: dict, cfg, **options) -> Outcome:
     net = drive.network
     w0 = drive.window
     watched = [_speed(net, n) for n in drive.nodes] + [s for s, _ in drive.torques]
-    watched += [f"F_{s.name}" for s in net.strands] + [s for s, _ in drive.motors]
+    watched += [f"F_{s.name}" for s in net.tension_strands] + [s for s, _ in drive.motors]
     # what the report gives: nodes and couplings over the window, strands over the whole run,
     # motors both (their peak over the run): the estimate judges these figures
     reported = {name: (w0,) for name in watched}
-    reported.update({f"F_{s.name}": (0.0,) for s in net.strands})
+    reported.update({f"F_{s.name}": (0.0,) for s in net.tension_strands})
     reported.update({f"F_{c.name}": (0.0, w0) for bl in _backlashes(net) for c in bl.contacts()})
     reported.update({s: (0.0, w0) for s, _ in drive.motors})
     result = simulate(net, drive.t_end, drive.samples, cfg, watch=(watched, (0.0, w0), reported))

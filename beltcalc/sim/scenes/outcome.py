@@ -132,7 +132,7 @@ def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group:
 
     slack = result.extra.get("slack_time", {})
     out = []
-    for strand in net.strands:
+    for strand in net.tension_strands:
         if isinstance(strand, Contact):      # a backlash's side: reported with its backlash
             continue
         s = result.summary(f"F_{strand.name}", 0.0)

@@ -50,6 +50,7 @@ from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, check_timing, moto
                                       strand_check, strand_sections, strands_at_end)
 
 ROUTINGS = ("serpentine", "loops")
+POLYGON = ("off", "on")
 POSITIVE = {
     "chain_pitch": "m", "chain_mass": "kg/m", "chain_breaking_load": "N", "chain_stiffness": "N",
     "strand_length": "m", "drive_strand_length": "m", "sprocket_thickness": "m",
@@ -70,7 +71,8 @@ PLAIN = ("rollers", "drive_teeth", "roller_teeth", "idler_teeth", "pole_pairs", 
 # what the catalog chain (``chain``) gives unless the caller gives it: parameter -> Chain field
 FROM_CHAIN = {"chain_pitch": "pitch", "chain_mass": "mass", "chain_breaking_load": "breaking_load"}
 PARAMS = [Param(k, u, k.replace("_", " "), required=k not in FROM_CHAIN)
-          for k, u in {**POSITIVE, **NONNEGATIVE, **ANY_SIGN, **{k: "" for k in PLAIN}, "routing": None}.items()]
+          for k, u in {**POSITIVE, **NONNEGATIVE, **ANY_SIGN, **{k: "" for k in PLAIN}, "routing": None,
+                                                                      "polygon": None}.items()]
 PARAMS += [Param("chain", None, "roller chain (catalogs/chains.toml name, e.g. 10B-1): pitch, mass, breaking load")]
 PARAMS += TIMING
 
@@ -134,6 +136,8 @@ def check(p: dict) -> None:
                 raise InputError(f"{p[key]:g} is not allowed; it must be a whole number >= {low}", param=key)
         if p["routing"] not in ROUTINGS:
             raise InputError(f"{p['routing']!r} is not a routing; use one of {', '.join(ROUTINGS)}", param="routing")
+        if p["polygon"] not in POLYGON:
+            raise InputError(f"{p['polygon']!r} is not allowed; use one of {', '.join(POLYGON)}", param="polygon")
         require_range("breakdown_slip", p["breakdown_slip"], "", 0.0, 1.0, low_open=True, high_open=True)
         require_range("roller_wall", p["roller_wall"], "m", 0.0, p["roller_diameter"] / 2, low_open=True,
                       high_open=True)
@@ -267,9 +271,10 @@ def drive_data(p: dict) -> dict:
         couplings.append(dict(name=f"tube{k}", between=[f"end{k}a", f"end{k}b"], stiffness=c_tube,
                               damping=beta * c_tube))
     own = {key: p[f"chain_{key}"] for key in ("mass", "breaking_load") if p[f"chain_{key}"] != getattr(chain, key)}
+    polygon = {"polygon": True} if p["polygon"] == "on" else {}
     chain_strands = [dict(name=name, **{"from": a, "to": b}, chain=p["chain"], length=length,
                           pretension=p["pretension"], stiffness=p["chain_stiffness"],
-                          damping_time=p["chain_damping_time"], **own)
+                          damping_time=p["chain_damping_time"], **own, **polygon)
                      for name, a, b, length in routing]
     near, far = load_split(placement_factor(p["element_offset"], p["element_width"], p["roller_length"]),
                            p["element_width"], p["roller_length"])
@@ -310,12 +315,12 @@ def run(values: dict, cfg) -> Outcome:
     w0, n = values["window"], int(values["rollers"])
     watched = [f"{kind}{k}" for k in range(1, n + 1) for kind in ("omega_end", "T_shaft", "T_tube")]
     watched = [w + "a" if w.startswith("omega_end") else w for w in watched]
-    watched += ["omega_motor", "M_motor"] + [f"F_{s.name}" for s in net.strands]
+    watched += ["omega_motor", "M_motor"] + [f"F_{s.name}" for s in net.tension_strands]
     # the report: rollers over the window, the motor over the window and its peak over the run,
     # strands over the whole run: the estimate judges these figures
     reported = {name: (w0,) for name in watched}
     reported.update({"omega_motor": (0.0, w0), "M_motor": (0.0, w0)})
-    reported.update({f"F_{s.name}": (0.0,) for s in net.strands})
+    reported.update({f"F_{s.name}": (0.0,) for s in net.tension_strands})
     result = simulate(net, values["t_end"], samples, cfg, watch=(watched, (0.0, w0), reported))
     sections = []
     for k in range(1, n + 1):
@@ -330,7 +335,7 @@ def run(values: dict, cfg) -> Outcome:
             Row("torque_far_end_amplitude", "ampl.", tb.amplitude, "N m"),
         ], group=f"rollers, t >= {w0:g} s (torque into the drive end through the journal, and along the tube "
                  "to the far end)", item=str(k)))
-    breaking = {s.name: (values["chain_breaking_load"], "breaking load") for s in net.strands}
+    breaking = {s.name: (values["chain_breaking_load"], "breaking load") for s in net.tension_strands}
     sections += strand_sections(net, result, breaking, "chain strands, whole run (tension only; slack = no force)",
                                 label="breaking load / max")
     speed, torque = result.summary("omega_motor", w0), result.summary("M_motor", w0)

@@ -45,7 +45,7 @@ def strand_check(net, result, limits: Mapping[str, tuple[float, str]], chain_par
     (5.291, 6.0, 'FAIL', 3700.0)
     """
     checks = []
-    for s in net.strands:
+    for s in getattr(net, "tension_strands", net.strands):
         if s.name not in limits:
             continue
         f, (limit, what) = result.summary(f"F_{s.name}", 0.0).max, limits[s.name]

@@ -20,8 +20,8 @@ References:
 [Tsubaki glossary] Tsubakimoto Europe, support / general info / glossary (tsubaki.de):
     the maximum allowable load is set at 10 million load repetitions (the European standard:
     3 million).
-[Tsubaki guide] Tsubakimoto Chain Co., The Complete Guide to Chain, sec. 2.2.2 "Repeated
-    load tension, fatigue failure" (chain-guide.com): the fatigue test pulses between
+[Tsubaki guide] Tsubakimoto Chain Co., The Complete Guide to Chain, sec. 2.2.2 (chain-guide.com),
+    "Repeated load tension, fatigue failure": the fatigue test pulses between
     P_min = P_max / 11 and P_max (JIS B 1801).
 """
 
@@ -243,8 +243,8 @@ def damage_rate(damage: float, duration: float) -> float:
 
 
 def life(rate: float) -> float:
-    """The time to D = 1 [s] at the damage rate ``rate`` [1/s] [Miner45 eq. 1]; inf where
-    nothing is damaged.
+    """The time to D = 1 [s] at the damage rate ``rate`` [1/s]; inf where nothing is damaged
+    ([Miner45 eq. 1]).
 
     >>> life(1e-6), life(0.0)
     (1000000.0, inf)

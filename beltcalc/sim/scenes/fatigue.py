@@ -36,7 +36,7 @@ def tension_strands(net) -> list:
 
     out = [s for s in net.strands if not isinstance(s, Contact)]
     seen = {id(s) for s in out}
-    return out + [el for el in net.elements if getattr(el, "tension_only", False) and id(el) not in seen]
+    return out + [el for el in getattr(net, "elements", ()) if getattr(el, "tension_only", False) and id(el) not in seen]
 
 
 def slack_time(net, result, name: str) -> float:
@@ -63,8 +63,8 @@ def strand_fatigue(net) -> dict:
 
 def fatigue_sections(net, result) -> list[Section]:
     """One section per chain strand (``chain_fatigue.<name>``): the maker's allowable dynamic
-    load, the peak force over it, the load cycles the rainflow count finds [ASTM E1049
-    sec. 5.4.4] and the largest range, the Miner damage per hour [Miner45 eq. 1] on the
+    load, the peak force over it, the load cycles the rainflow count finds
+    [ASTM E1049 sec. 5.4.4] and the largest range, the Miner damage per hour [Miner45 eq. 1] on the
     chain's S-N curve (:func:`beltcalc.formulas.fatigue.chain_sn_curve`: the allowable load
     published, the slope assumed) and the life to D = 1. A chain without an allowable load
     has its count only (damage and life null, the note says why)."""

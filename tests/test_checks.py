@@ -28,13 +28,25 @@ def test_default_runs_pass_every_check(args):
     settling = [c for c in obj["checks"] if c["key"] == "window_settled"]
     assert len(settling) == 1
     failing = [c for c in obj["checks"] if c["verdict"] != "pass"]
+    # issue 33: a chain strand's fatigue check (rule chain_fatigue) is unverified for the 10B-1 of
+    # the roller table and the conveyor: no maker's allowable dynamic load for the B series in
+    # catalogs/chains.toml (the breaking-load check does not cover fatigue)
+    fatigue = [c for c in failing if c["key"] == "strand_fatigue"]
+    assert [c["verdict"] for c in fatigue] == (["unverified"] if args[0] != "sewing" else [])
+    failing = [c for c in failing if c["key"] != "strand_fatigue"]
+    if fatigue:
+        assert "10B-1" in fatigue[0]["reason"] and obj["warnings"][-1].startswith("chain strand vs fatigue UNVERIFIED")
+        obj["warnings"] = obj["warnings"][:-1]
     if "roller" in args[-1]:
         strand, = failing
         assert strand["key"] == "strand_strength" and strand["verdict"] == "FAIL"
         assert strand["value"]["value"] == pytest.approx(22.2e3 / 4196.1, rel=1e-4)
-        assert warnings(res) == obj["warnings"] and len(obj["warnings"]) == 1
+        assert warnings(res)[:-1] == obj["warnings"] and len(obj["warnings"]) == 1
         assert obj["warnings"][0].startswith("strand breaking-load safety FAILS: 5.291 must be >= 6")
         assert "--set chain=12B-1" in obj["warnings"][0] if args == ("roller-table",) else "12B-1" in obj["warnings"][0]
+    elif fatigue:
+        assert failing == [] and obj["checks"]
+        assert warnings(res)[:-1] == obj["warnings"] == []
     else:
         assert failing == [] and obj["checks"]
         assert warnings(res) == obj["warnings"] == []
@@ -70,7 +82,9 @@ def test_twenty_rollers_fail_the_chain_and_the_motor():
     assert checks["motor_mean_torque"]["verdict"] == "FAIL"
     # and the window starts before the stalled drive's slowest pole has decayed (issue 26)
     assert checks["window_settled"]["verdict"] == "FAIL"
-    assert len(warnings(res)) == 5 and warnings(res) == obj["warnings"]
+    # (and the unverified fatigue check of the 10B-1 strands, issue 33)
+    assert checks["strand_fatigue"]["verdict"] == "unverified"
+    assert len(warnings(res)) == 6 and warnings(res) == obj["warnings"]
 
 
 def test_strict_turns_failures_into_exit_1_and_writes_nothing(tmp_path):
@@ -82,8 +96,9 @@ def test_strict_turns_failures_into_exit_1_and_writes_nothing(tmp_path):
     assert res.exit_code == 1
     lines = res.stderr.splitlines()
     assert lines[-1].startswith("Error: --strict: 4 checks fail (strand breaking-load safety, motor mean torque, "
-                                "motor speed, mean, motor peak torque")
-    assert len(lines) == 6 and lines[0].startswith("warning: the drive stalls")
+                                "motor speed, mean, motor peak torque) and 1 checks cannot be verified (chain strand "
+                                "vs fatigue)")
+    assert len(lines) == 7 and lines[0].startswith("warning: the drive stalls")
     assert all(line.startswith("warning: ") for line in lines[:-1])
     assert not csv_path.exists()
     assert ok(run("sewing", "--strict", "--csv", str(csv_path)))

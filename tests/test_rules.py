@@ -166,7 +166,11 @@ def test_twelve_b_passes_the_roller_table():
     force = obj["strands"]["drive-sprocket1"]["force_max"]["value"]
     assert strand["value"]["value"] == pytest.approx(28900.0 / force, rel=1e-12)
     assert strand["verdict"] == "pass" and strand["value"]["value"] == pytest.approx(8.5, abs=0.05)
-    assert obj["warnings"] == []
+    # its one warning: no maker's allowable dynamic (fatigue) load for the B series in
+    # catalogs/chains.toml, so the fatigue check is unverified (rule chain_fatigue)
+    fatigue, = [c for c in obj["checks"] if c["verdict"] != "pass"]
+    assert fatigue["key"] == "strand_fatigue" and fatigue["verdict"] == "unverified"
+    assert len(obj["warnings"]) == 1 and "12B-1" in obj["warnings"][0]
 
 
 # --- one damping-fit rule: `tension` and a drive file ---------------------------------------------
@@ -205,4 +209,5 @@ def test_drive_file_with_damping_given_has_no_fit_check(tmp_path):
     path.write_text(text.replace('width = "25 mm"\n', 'width = "25 mm"\ndamping = "40 N*s/m"\n'))
     obj = json.loads(ok(run("simulate", "drive", str(path), "--json")).stdout)
     assert "damping_fit" not in {c["key"] for c in obj["checks"]}
-    assert obj["warnings"] == []
+    # the conveyor's 10B-1 strands: no allowable dynamic load published here, fatigue unverified
+    assert [w for w in obj["warnings"] if "chain strand vs fatigue UNVERIFIED" not in w] == []

@@ -155,7 +155,8 @@ class Motor:
 
 @dataclass(frozen=True)
 class Chain:
-    """A roller chain of one strand count, SI: lengths [m], breaking load [N], mass [kg/m].
+    """A roller chain of one strand count, SI: lengths [m], breaking and allowable dynamic
+    (fatigue) load [N], mass [kg/m]; ``allowable_dynamic_load`` None where no maker's figure.
 
     ``name`` is ``<size>-<strands>`` (``10B-1``, ``40-2``); ``iso`` the ISO 606 name of an
     ANSI size (``08A``). ``mass`` is ``None`` where the catalog's sources do not print it.
@@ -177,6 +178,7 @@ class Chain:
     roller_bushing_constant: float | None = None
     iso: str = ""
     lubrication: tuple[float, float] | None = None   # highest chain speed of Type A, of Type B [m/s]
+    allowable_dynamic_load: float | None = None      # the maker's fatigue (maximum allowable) load [N]
 
     @property
     def aliases(self) -> tuple[str, ...]:
@@ -278,6 +280,8 @@ CHAIN = Record({
     "roller_bushing_constant": _number("", "K_r of the ACA roller-bushing rating"),
     "breaking_load": List(item=_number("N", "breaking load"), least=1, rising=True, required=True,
                           help="breaking loads by strand count 1, 2, ..., rising"),
+    "allowable_dynamic_load": List(item=_number("N", "allowable dynamic (fatigue) load"), least=1, rising=True,
+                                   help="the maker's fatigue loads by strand count 1, 2, ... (fewer: left out)"),
     "mass": Named(item=_number("kg/m", "mass per length"), help="{ strands = mass }"),
     "lubrication": Section(record=Record({
         "A": _number("m/s", "highest chain speed of lubrication Type A", required=True, unit_key="lubrication"),
@@ -381,7 +385,9 @@ class CatalogFile:
 
     def chain(self, e: dict, where: str) -> list[Chain]:
         """One chain entry: a :class:`Chain` per strand count of its breaking loads."""
-        loads, masses = e.pop("breaking_load"), e.pop("mass", {})
+        loads, masses, fatigue = e.pop("breaking_load"), e.pop("mass", {}), e.pop("allowable_dynamic_load", [])
+        if len(fatigue) > len(loads):
+            self.fail(f"{where}.allowable_dynamic_load", f"{len(fatigue)} values for {len(loads)} strand counts")
         for k in masses:
             if not (k.isdigit() and 1 <= int(k) <= len(loads)):
                 self.fail(f"{where}.mass.{k}", f"not a strand count; the keys are strand counts 1..{len(loads)} "
@@ -393,7 +399,8 @@ class CatalogFile:
         size, source = e.pop("name"), self.source.within(e.pop("source", None))
         e.pop("note", None)
         return [Chain(name=f"{size}-{k}", size=size, strands=k, breaking_load=load, mass=masses.get(k),
-                      lubrication=lub and (lub["A"], lub["B"]), source=source, **e)
+                      lubrication=lub and (lub["A"], lub["B"]), source=source,
+                      allowable_dynamic_load=fatigue[k - 1] if k <= len(fatigue) else None, **e)
                 for k, load in enumerate(loads, start=1)]
 
     def factors(self, name: str, t: dict, where: str) -> ServiceFactors:

@@ -244,6 +244,11 @@ RULES: Mapping[str, Rule] = {r.key: r for r in (
          "Diamond Chain, technical engineering guide: the load in service at most 1/6 of the minimum ultimate "
          "tensile strength F_B (ISO 606 / ASME B29.1 minimum)",
          met_by=("chain", "simulate roller-table", "simulate drive")),
+    Rule("chain_fatigue", "chain strand vs fatigue", None, "N", "max", "F_max",
+         "U.S. Tsubaki Roller Chain General Catalog: the maximum allowable load, 'derived from the lowest fatigue "
+         "limit: when a load lower than this value is repetitively applied to the roller chain, fatigue failure will "
+         "never occur' (catalogs/chains.toml); a chain without one is unverified",
+         limit_name="the maker's allowable dynamic load", met_by=("simulate roller-table", "simulate drive")),
     Rule("chain_galling", "chain speed vs galling", None, "rad/s", "max", "n_1",
          "Shigley 9th ed. 17-5: the speed is limited by galling between pin and bushing, n_1 <= 1000 [82.5 / "
          "(7.95^p 1.0278^N_1 1.323^(F/1000))]^(1/(1.59 log p + 1.873)) rpm, p in, F lbf; beyond it the check and "

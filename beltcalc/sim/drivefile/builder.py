@@ -57,6 +57,7 @@ class Builder:
         self.torques: list[tuple[str, str]] = []
         self.spans: dict[str, float] = {}
         self.limits: dict[str, tuple[float, str]] = {}
+        self.fatigue: dict = {}                  # chain strand -> beltcalc.formulas.fatigue.StrandFatigue
         self.fits: dict[str, tuple[float, str]] = {}   # belt span -> (R^2, the fit), as `tension` checks it
         self.motor_signals: list[tuple[str, str]] = []
         self.rigid: list[str] = []

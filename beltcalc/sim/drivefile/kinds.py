@@ -363,6 +363,9 @@ class ChainStrandKind(Kind):
                               required=True, low=">0"),
         "mass": Quantity("kg/m", help="mass per length, instead of the catalog's", low=">=0"),
         "breaking_load": Quantity("N", help="breaking load, instead of the catalog's", low=">0"),
+        "allowable_dynamic_load": Quantity("N", help="the maker's allowable dynamic (fatigue) load, instead of the "
+                                                     "catalog's (a chain without one: its fatigue check unverified)",
+                                           low=">0"),
         "damping": Quantity("N*s/m", help="b", low=">=0"),
         "damping_time": Quantity("s", help="stiffness-proportional damping b = beta c", low=">=0"),
         "polygon": Flag(help="true: the strand's length follows the sprockets' tooth polygons (the polygon action; "
@@ -376,6 +379,7 @@ class ChainStrandKind(Kind):
     @classmethod
     def build(cls, b, e: Entry) -> None:
         from beltcalc.formulas.chain import strand_stiffness
+        from beltcalc.formulas.fatigue import StrandFatigue
         from beltcalc.sim.elements import Strand
 
         (i, r_i), (j, r_j) = b.end_radius(e, "from"), b.end_radius(e, "to")
@@ -392,6 +396,11 @@ class ChainStrandKind(Kind):
                     b.fail(e, key, "a phase needs `polygon = true`")
             b.add(Strand(e.name, i, j, r_i, r_j, c, damping, b.get(e, "pretension", 0.0)))
         b.limits[e.name] = (b.get(e, "breaking_load", chain.breaking_load), "breaking load")
+        own = b.get(e, "allowable_dynamic_load")
+        b.fatigue[e.name] = StrandFatigue(chain.name, own if own is not None else chain.allowable_dynamic_load,
+                                          "the drive's `allowable_dynamic_load`" if own is not None else
+                                          "catalogs/chains.toml" if chain.allowable_dynamic_load is not None else
+                                          f"none published for {chain.name} in catalogs/chains.toml")
         b.strand_mass(e, (i, r_i), (j, r_j), b.get(e, "mass", chain.mass), length)
 
     @staticmethod

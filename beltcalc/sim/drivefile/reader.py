@@ -32,6 +32,7 @@ class Drive:
     torques: list[tuple[str, str]] = field(default_factory=list)     # (signal, label) of couplings/shafts
     spans: dict[str, float] = field(default_factory=dict)            # two-way span -> lever r [m]
     limits: dict[str, tuple[float, str]] = field(default_factory=dict)  # strand -> (force limit [N], its name)
+    fatigue: dict = field(default_factory=dict)      # chain strand -> its StrandFatigue (also ``network.fatigue``)
     motors: list[tuple[str, str]] = field(default_factory=list)      # (torque signal, node)
     fits: dict[str, tuple[float, str]] = field(default_factory=dict)  # belt span -> (R^2 of its damping fit, the fit)
     inputs: dict = field(default_factory=dict)                       # address -> (SI value, origin)
@@ -206,7 +207,7 @@ class DriveFile:
         drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
                       samples=samples, window=window, notes=b.notes, nodes=[n.name for n in net.nodes],
                       torques=b.torques, spans=b.spans, limits=b.limits, motors=b.motor_signals, fits=b.fits,
-                      inputs=b.used)
+                      inputs=b.used, fatigue=b.fatigue)
         if b.rigid:
             drive.notes += self._rigid_notes(values, catalog, net, b.rigid)
         return drive
@@ -263,6 +264,9 @@ class DriveFile:
         try:
             with float_range("the drive's model"):
                 net = Network(nodes, elements)
+                # what a strand's fatigue check needs travels with the network (a scene that
+                # writes its drive in code gets only the network)
+                net.fatigue = dict(b.fatigue)
                 net.first_order()          # every entry of the first-order system is finite (cached)
         except FloatRangeError:
             raise

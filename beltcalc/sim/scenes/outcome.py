@@ -16,7 +16,10 @@ import numpy as np
 from beltcalc.design.checks import RULES
 from beltcalc.errors import InputError
 from beltcalc.report import Column, Section
+from beltcalc.sim.scenes.fatigue import fatigue_sections, slack_time, tension_strands
 from beltcalc.sim.scenes.run_checks import stall_line, stalls
+
+__all__ = ["Outcome", "SteadyRow", "steady_sections", "strand_sections", "switched_sections", "tension_strands"]
 
 
 @dataclass
@@ -122,27 +125,25 @@ class Outcome:
 
 def strand_sections(net, result, limits: Mapping[str, tuple[float, str]], group: str,
                     label: str = "limit / max") -> list[Section]:
-    """One row per tension-only strand over the whole run: force min and max (off the exact
-    solution where the run kept them), the time it was slack, and its force limit (a
-    chain's breaking load, a belt's F_Tadm: ``limits[name] = (N, what)``) over its peak.
+    """One row per tension-only strand (:func:`tension_strands`) over the whole run: force min
+    and max (off the exact solution where the run kept them), the time it was slack
+    (:func:`~beltcalc.sim.scenes.fatigue.slack_time`), and its force limit (a chain's
+    breaking load, a belt's F_Tadm: ``limits[name] = (N, what)``) over its peak; then per
+    chain strand its fatigue (:func:`~beltcalc.sim.scenes.fatigue.fatigue_sections`).
     The contacts of a backlash are strands to the core but not here: their backlash reports
     them (:func:`beltcalc.sim.scenes.drive.backlash_sections`)."""
     from beltcalc.report import Row
-    from beltcalc.sim.elements.backlash import Contact
 
-    slack = result.extra.get("slack_time", {})
     out = []
-    for strand in net.tension_strands:
-        if isinstance(strand, Contact):      # a backlash's side: reported with its backlash
-            continue
+    for strand in tension_strands(net):
         s = result.summary(f"F_{strand.name}", 0.0)
         rows = [Row("force_min", "force min", s.min, "N"), Row("force_max", "force max", s.max, "N"),
-                Row("slack_time", "time slack", float(slack.get(strand.name, 0.0)), "s")]
+                Row("slack_time", "time slack", slack_time(net, result, strand.name), "s")]
         if strand.name in limits:
             limit, what = limits[strand.name]
             rows.append(Row("safety", label, limit / max(s.max, 1e-300), "1", digits=3, note=what))
         out.append(Section(("strands", strand.name), strand.name, rows, group=group, item=strand.name))
-    return out
+    return out + fatigue_sections(net, result)
 
 
 

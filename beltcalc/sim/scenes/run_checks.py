@@ -1,5 +1,5 @@
-"""The checks a scene's run makes of its drive: the strength of its most loaded strand
-(:func:`strand_check`), its periodic loads against its natural frequencies
+"""The checks a scene's run makes of its drive: the strength of its most loaded strand and
+the fatigue of its most loaded chain strand (:func:`strand_check`), its periodic loads against its natural frequencies
 (:func:`resonance_check`), an induction motor's torque against its breakdown torque
 (:func:`motor_checks`) and whether the motor runs at all (:func:`stall_checks`,
 :func:`stalls`, :func:`stall_line`). Each is a :class:`~beltcalc.design.checks.Check` of a rule of
@@ -35,7 +35,10 @@ def strand_check(net, result, limits: Mapping[str, tuple[float, str]], chain_par
     a key of :data:`STRAND_RULES`; the most loaded is the one of largest utilisation. A chain
     strand that fails it is told the breaking load it needs and the first one-strand chain of
     ``catalogs/chains.toml`` (smallest pitch) that has it, set by ``chain_param`` (a scene's
-    parameter; None: none names it).
+    parameter; None: none names it). The strands are :func:`~beltcalc.sim.scenes.fatigue.tension_strands`;
+    then the fatigue check of the most loaded chain strand
+    (:func:`~beltcalc.sim.scenes.fatigue.fatigue_check`, where the network carries chain
+    strands' fatigue data).
 
     >>> from types import SimpleNamespace as NS
     >>> net = NS(strands=[NS(name="a")])
@@ -44,8 +47,10 @@ def strand_check(net, result, limits: Mapping[str, tuple[float, str]], chain_par
     >>> round(c.value, 3), c.limit, c.verdict, c.level       # 22.2 kN / 4196 N; F_B / 6 on F_a
     (5.291, 6.0, 'FAIL', 3700.0)
     """
+    from beltcalc.sim.scenes.fatigue import fatigue_check, tension_strands
+
     checks = []
-    for s in getattr(net, "tension_strands", net.strands):
+    for s in tension_strands(net):
         if s.name not in limits:
             continue
         f, (limit, what) = result.summary(f"F_{s.name}", 0.0).max, limits[s.name]
@@ -56,8 +61,9 @@ def strand_check(net, result, limits: Mapping[str, tuple[float, str]], chain_par
             safety = limit / f if f > 0 else math.inf
             checks.append((rule.check(safety, key="strand_strength", name="strand breaking-load safety"),
                            s.name, limit / rule.limit, what))
+    fatigue = fatigue_check(net, result)
     if not checks:
-        return []
+        return fatigue
     over = sum(1 for c, *_ in checks if c.verdict == "FAIL")
     worst, name, level, what = max(checks, key=lambda c: c[0].utilisation)
     detail = f"the peak force F over the run of strand {name}, the most loaded against its {what}"
@@ -67,11 +73,11 @@ def strand_check(net, result, limits: Mapping[str, tuple[float, str]], chain_par
     rule = RULES[STRAND_RULES[what]]
     if rule.limit is None:
         return [rule.check(worst.value, worst.limit, key="strand_strength", name=worst.name, detail=detail,
-                           signals=signals)]
+                           signals=signals)] + fatigue
     if worst.verdict == "FAIL":
         detail += "; " + _stronger_chain(rule.limit * limits[name][0] / worst.value, chain_param)
     return [rule.check(worst.value, key="strand_strength", name=worst.name, detail=detail, signals=signals,
-                       level=level)]
+                       level=level)] + fatigue
 
 
 def _stronger_chain(need: float, param: str | None) -> str:

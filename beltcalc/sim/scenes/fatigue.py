@@ -130,8 +130,8 @@ def fatigue_check(net, result) -> list:
     if unknown:
         chains = sorted({f.chain for _, _, f in unknown})
         missing = (f"no maker's allowable dynamic load for {', '.join(chains)} (catalogs/chains.toml): "
-                   f"{len(unknown)} of {len(known) + len(unknown)} chain strands unchecked for fatigue; give "
-                   "`allowable_dynamic_load` from the chain's maker")
+                   f"{len(unknown)} of {len(known) + len(unknown)} chain strands unchecked for fatigue; give the "
+                   "strand's allowable_dynamic_load (a drive file's [[chain_strand]] key) from the chain's maker")
     if known:
         peak, name, fat = max(known, key=lambda k: k[0] / k[2].allowable)
         detail = f"the peak force of strand {name} ({fat.chain}, {fat.origin}) over the run"

@@ -25,8 +25,15 @@ The scene ``simulate roller-table`` (``catalogs/scenes/roller_table.toml``) repo
 roller its speed and end torques, per strand its force extremes, time slack and safety,
 and the motor's torque and start-up time.
 
+With ``polygon = on`` every strand follows its sprockets' tooth polygons (the polygon action,
+:class:`~beltcalc.sim.elements.polygon.PolygonStrand`) and the run is nonlinear (scipy's
+Radau, stopped at every seating); the report names the tooth-passing frequency and its nearest
+mode either way.
+
 References:
 
+[ISO 10823] ISO 10823:2004, Guidance on the selection of roller chain drives: the polygon
+    effect, the tooth-passing frequency z n.
 [RP] A. Rusek, A. Popenda, "Mathematical model of drive system for metallurgical roller
     table unit with rotation of rollers transmitted by chain transmission".
 [M16] D. A. Mamatova, S. Zhang, A. Djuraev, M. A. Mansurova, "Analysis of Belting Stiffness
@@ -46,8 +53,8 @@ from beltcalc.errors import InputError, require_positive, require_range
 from beltcalc.params import Param, Resolved
 from beltcalc.report import Row, Section
 from beltcalc.sim.network import Network, series_stiffness
-from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, check_timing, motor_checks, scene_values, settling_check,
-                                      strand_check, strand_sections, strands_at_end)
+from beltcalc.sim.scenes.base import (TIMING, Outcome, Scene, check_timing, motor_checks, resonance_check, scene_values,
+                                      settling_check, strand_check, strand_sections, strands_at_end)
 
 ROUTINGS = ("serpentine", "loops")
 POLYGON = ("off", "on")
@@ -365,10 +372,39 @@ def run(values: dict, cfg) -> Outcome:
                                f"({no_load:.4g} rad/s) before "
                                + ("the load lands" if start < t_end else "the run ends")
                                + ": no start-up time; raise `load_start` or `t_end`")
+    sections.append(tooth_section(net, values, result))
     breakdown = values["breakdown_factor"] * values["rated_torque"]
     checks = strand_check(net, result, breaking) + motor_checks(result, "M_motor", breakdown, w0, speed="omega_motor")
+    if values["polygon"] == "on":           # the run feels the tooth frequency: judge it against the modes
+        checks += resonance_check(net, result, w0)
     checks += settling_check(net, w0, t_end, strands_at_end(net, result))
     return Outcome(net, result, sections, [], checks)
+
+
+def tooth_section(net, values: dict, result) -> Section:
+    """The chain's tooth-passing frequency over the window and its nearest natural frequency.
+
+    Every sprocket on the chain passes teeth at f_z = v / p = z n [ISO 10823 sec. 5], v the
+    chain's mean speed (roller 1's sprocket: v = p z n), and its polygon action pulses the
+    strands at f_z and its harmonics. The modes are the network's with every strand taut
+    (:func:`beltcalc.sim.frequency.poles`); with ``polygon = off`` the run does not feel the
+    pulse, the row says where it would fall."""
+    from beltcalc.sim.frequency import poles
+
+    speed = abs(result.summary("omega_end1a", values["window"]).mean)
+    f_z = values["roller_teeth"] * speed / (2 * math.pi)
+    modes = [p for p in poles(net) if p.kind == "oscillatory"]
+    rows = [Row("chain_speed", "chain speed, mean", values["chain_pitch"] * f_z, "m/s"),
+            Row("tooth_frequency", "tooth-passing frequency z n", f_z, "Hz",
+                note="every sprocket of the chain: chain speed / pitch")]
+    if modes:
+        near = min(modes, key=lambda p: abs(p.frequency - f_z))
+        rows += [Row("nearest_mode", "nearest natural frequency", near.frequency, "Hz",
+                     note=f"damping ratio {near.damping_ratio:.3g}"),
+                 Row("separation", "separation |f_z - f_n| / f_n", abs(f_z - near.frequency) / near.frequency, "1",
+                     digits=3, note="the run feels the pulse" if values["polygon"] == "on"
+                     else "polygon = off: the run does not feel the pulse; --set polygon=on")]
+    return Section(("chain",), f"chain, t >= {values['window']:g} s (polygon action {values['polygon']})", rows)
 
 
 SCENE = RollerTableScene(

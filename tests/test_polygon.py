@@ -1,0 +1,325 @@
+"""The polygon (chordal) action of a chain strand (issue 33): the strand's length against the
+seating geometry found by brute force over every pair of rollers, closed forms of the chordal
+action, the limit of many teeth (today's strand, at order 1 / z^2), and runs through the
+command a user types against the same equations written out here and solved by scipy's Radau
+(rtol 1e-11) stopped at every seating and slack switch."""
+
+from __future__ import annotations
+
+import csv
+import functools
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from beltcalc.sim.elements.polygon import PolygonStrand, span_phase
+
+DATA = Path(__file__).parent / "data"
+DRIVE = DATA / "chain_polygon.toml"
+P10B = 0.015875          # 10B-1 pitch [m]
+
+
+def cli(*args: str):
+    """The command a user types, in process: (exit code, stdout, stderr)."""
+    from click.testing import CliRunner
+
+    from beltcalc.cli.main import cli as main
+
+    res = CliRunner().invoke(main, list(args))
+    return res.exit_code, res.stdout, res.stderr
+
+
+# --- the geometry, written out: every roller of both sprockets ----------------------------------
+class Polygons:
+    """Two sprockets' pitch polygons as the docs define them, computed without the element:
+    the open drive's layout, every roller's position, the common tangent found by brute force."""
+
+    def __init__(self, p, z_i, z_j, L, psi_i, psi_j):
+        self.p, self.z_i, self.z_j, self.psi_i, self.psi_j = p, z_i, z_j, psi_i, psi_j
+        self.R_i, self.R_j = p / (2 * math.sin(math.pi / z_i)), p / (2 * math.sin(math.pi / z_j))
+        self.D = math.hypot(L, self.R_i - self.R_j)
+        self.beta0 = math.acos((self.R_i - self.R_j) / self.D)
+        self.rest = 0.0
+        self.rest = self.length(0.0, 0.0)
+
+    def rollers(self, phi, z, R, psi, centre):
+        """(index k, x, y) of every roller on the sprocket, once each: the turn centred on the
+        top (k counts the rollers that have come round since rest, so the free links do too)."""
+        k0 = round(-(phi + psi) * z / (2 * math.pi))
+        k = np.arange(k0 - z // 2, k0 - z // 2 + z)
+        a = self.beta0 + psi + phi + 2 * math.pi * k / z
+        return k, centre + R * np.cos(a), R * np.sin(a)
+
+    def tangent(self, phi_i, phi_j):
+        """The pair of rollers whose line leaves every roller of both sprockets on one side
+        (under it, away from its normal): brute force over all pairs; (k_i, k_j, length)."""
+        ki, xi, yi = self.rollers(phi_i, self.z_i, self.R_i, self.psi_i, 0.0)
+        kj, xj, yj = self.rollers(phi_j, self.z_j, self.R_j, self.psi_j, self.D)
+        # candidates: the rollers near the top of each (a quarter turn either side)
+        top_i = np.argsort(-(xi * math.cos(self.beta0) + yi * math.sin(self.beta0)))[:max(4, self.z_i // 4)]
+        top_j = np.argsort(-((xj - self.D) * math.cos(self.beta0) + yj * math.sin(self.beta0)))[:max(4, self.z_j // 4)]
+        X, Y = np.concatenate([xi, xj]), np.concatenate([yi, yj])
+        best = None
+        for a in top_i:
+            for b in top_j:
+                dx, dy = xj[b] - xi[a], yj[b] - yi[a]
+                ell = math.hypot(dx, dy)
+                nx, ny = -dy / ell, dx / ell
+                over = (X - xi[a]) * nx + (Y - yi[a]) * ny
+                worst = over.max()
+                if best is None or worst < best[0]:
+                    best = (worst, ki[a], kj[b], ell)
+        assert best[0] <= 1e-12, "no supporting line"
+        return best[1:]
+
+    def length(self, phi_i, phi_j):
+        """e = |V_j - V_i| + p (k_j - k_i) - e_0: the free links counted by the seated rollers."""
+        ki, kj, ell = self.tangent(phi_i, phi_j)
+        return ell + self.p * (kj - ki) - self.D - self.rest
+
+
+@pytest.mark.parametrize("z_i, z_j, L", [(19, 15, 0.6), (19, 19, 0.5), (9, 40, 0.3), (60, 12, 1.2)])
+def test_length_against_the_seating_found_by_brute_force(z_i, z_j, L):
+    s = PolygonStrand("s", "a", "b", P10B, z_i, z_j, L, 1e6)
+    ref = Polygons(P10B, z_i, z_j, L, s.phase_i, s.phase_j)
+    rng = np.random.default_rng(z_i * 100 + z_j)
+    angles = list(rng.uniform(-20, 20, size=(150, 2)))
+    # seatings: the angles of i where a roller reaches the tangent, and a hair either side
+    for k in range(-3, 4):
+        tie = (k + 0.5) * 2 * math.pi / z_i - s.phase_i
+        angles += [(tie + d, 0.0) for d in (-1e-9, 0.0, 1e-9)]
+    for phi_i, phi_j in angles:
+        want = ref.length(phi_i, phi_j)
+        got = s.elongation_at(float(phi_i), float(phi_j))[0]
+        assert got == pytest.approx(want, abs=1e-12)
+    a = np.array(angles)
+    vector = s.elongation(a[:, 0], a[:, 1])[0]
+    scalar = [s.elongation_at(float(x), float(y))[0] for x, y in a]
+    assert_allclose(vector, scalar, rtol=0, atol=1e-15)
+
+
+def test_derivatives_against_central_differences():
+    s = PolygonStrand("s", "a", "b", P10B, 19, 15, 0.6, 1e6)
+    h = 1e-6
+    for phi_i, phi_j in [(0.1, 0.2), (0.37, -0.5), (11.3, 12.1)]:
+        e, e_i, e_j, e_ii, e_ij, e_jj = s.elongation_at(phi_i, phi_j)
+        seats = s.seats_at(phi_i, phi_j)
+
+        def part(k, a, b):
+            return s.elongation_at(a, b, seats)[k]
+        assert e_i == pytest.approx((part(0, phi_i + h, phi_j) - part(0, phi_i - h, phi_j)) / (2 * h), abs=1e-9)
+        assert e_j == pytest.approx((part(0, phi_i, phi_j + h) - part(0, phi_i, phi_j - h)) / (2 * h), abs=1e-9)
+        assert e_ii == pytest.approx((part(1, phi_i + h, phi_j) - part(1, phi_i - h, phi_j)) / (2 * h), abs=1e-8)
+        assert e_ij == pytest.approx((part(1, phi_i, phi_j + h) - part(1, phi_i, phi_j - h)) / (2 * h), abs=1e-8)
+        assert e_jj == pytest.approx((part(2, phi_i, phi_j + h) - part(2, phi_i, phi_j - h)) / (2 * h), abs=1e-8)
+
+
+def test_closed_forms_of_the_chordal_action():
+    """Equal sprockets in phase (a span of whole pitches) turning together: the strand moves
+    parallel to itself, so its length never changes, and the chain leaves at the seated
+    roller's speed omega R cos(theta), theta its angle from the strand's normal, between
+    omega R cos(180 deg / z) and omega R [ISO 10823 sec. 5]. One tooth of either sprocket
+    moves exactly one pitch of chain."""
+    z = 19
+    R = P10B / (2 * math.sin(math.pi / z))
+    s = PolygonStrand("s", "a", "b", P10B, z, z, 40 * P10B, 1e6)
+    assert s.phase_j == pytest.approx(0.0, abs=1e-12)
+    phi = np.linspace(-3.0, 3.0, 2001)
+    e, e_i, e_j, *_ = s.elongation(phi, phi)
+    assert_allclose(e, 0.0, rtol=0, atol=1e-12)
+    theta = (phi + math.pi / z) % (2 * math.pi / z) - math.pi / z
+    assert_allclose(e_i, R * np.cos(theta), rtol=0, atol=1e-12)
+    assert_allclose(-e_j, R * np.cos(theta), rtol=0, atol=1e-12)
+    edge = math.pi / z                          # a seating: the slowest chain
+    assert s.elongation_at(edge, edge)[1] == pytest.approx(R * math.cos(math.pi / z), abs=1e-12)
+    assert e_i.max() == pytest.approx(R, abs=1e-9)
+    # one tooth is one pitch, at any angle of either sprocket
+    t = 2 * math.pi / z
+    for a, b in [(0.1, -0.4), (1.234, 5.0), (-7.7, 0.02)]:
+        assert s.elongation_at(a + t, b)[0] - s.elongation_at(a, b)[0] == pytest.approx(P10B, abs=1e-12)
+        assert s.elongation_at(a, b + t)[0] - s.elongation_at(a, b)[0] == pytest.approx(-P10B, abs=1e-12)
+
+
+def test_the_span_phase_of_a_fraction_of_a_pitch():
+    assert span_phase(40 * P10B, P10B, 19) == pytest.approx(0.0, abs=1e-12)
+    assert span_phase(40.25 * P10B, P10B, 20) == pytest.approx(2 * math.pi * 0.25 / 20, rel=1e-9)
+
+
+def test_many_teeth_converge_to_todays_strand_at_order_two():
+    """R held, z doubling: e -> R phi_i - R phi_j (the round sprocket), the difference falling
+    4 times per doubling (order 2 in 1 / z: the mean radius R sinc(pi / z) and the pulse
+    R (1 - cos(pi / z)) are both O(1 / z^2))."""
+    R = 0.0482
+    angles = [(0.3, 0.1), (1.3, -0.4), (7.0, 6.5)]
+    errs = []
+    for z in (40, 80, 160, 320, 640):
+        s = PolygonStrand("s", "a", "b", 2 * R * math.sin(math.pi / z), z, z, 0.6, 1e6, phase_j=0.0)
+        errs.append(max(abs(s.elongation_at(a, b)[0] - R * (a - b)) for a, b in angles))
+    orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    assert_allclose(orders, 2.0, atol=0.15)
+
+
+# --- a run of the drive file against the equations written out --------------------------------
+# tests/data/chain_polygon.toml: the driver prescribed, the driven sprocket free
+J_DRIVEN, LOAD, F0, EA, BETA, L = 4e-3, 12.0, 160.0, 1.5e6, 2e-4, 0.5
+Z_DRIVER, Z_DRIVEN = 19, 15
+
+
+def driver_angle(t):
+    """The prescribed driver: 150 rad/s^2 for 0.1 s, then 15 rad/s (floats)."""
+    return (75.0 * t * t, 150.0 * t) if t < 0.1 else (0.75 + 15.0 * (t - 0.1), 15.0)
+
+
+@functools.cache
+def _reference(t: tuple):
+    return solve_reference(np.array(t))
+
+
+def solve_reference(t):
+    """The driven sprocket's speed and both strands' forces on the samples ``t``: J phi'' =
+    -F_t de_t/dphi - F_s de_s/dphi - load, each strand c (e + F0/c) + b e' while stretched
+    and pulling, e by :class:`Polygons` (its rollers and their tangent, not the element's
+    search), scipy Radau at rtol 1e-11 stopped at every seating (a roller of either sprocket
+    reaches the strand's line) and every slack switch, the seated rollers and the slack state
+    frozen between stops."""
+    from scipy.integrate import solve_ivp
+
+    c, b = EA / L, BETA * EA / L
+    tight = Polygons(P10B, Z_DRIVER, Z_DRIVEN, L, 0.0, span_phase(L, P10B, Z_DRIVEN))
+    slack = Polygons(P10B, Z_DRIVEN, Z_DRIVER, L, 0.0, span_phase(L, P10B, Z_DRIVER))
+
+    def geometry(g, phi_i, phi_j, seats):
+        """(e, de/dphi_i, de/dphi_j, line normal, seated vertices' unit vectors) with the seats held."""
+        k_i, k_j = seats
+        a_i = g.beta0 + g.psi_i + phi_i + 2 * math.pi * k_i / g.z_i
+        a_j = g.beta0 + g.psi_j + phi_j + 2 * math.pi * k_j / g.z_j
+        vi = (g.R_i * math.cos(a_i), g.R_i * math.sin(a_i))
+        vj = (g.D + g.R_j * math.cos(a_j), g.R_j * math.sin(a_j))
+        dx, dy = vj[0] - vi[0], vj[1] - vi[1]
+        ell = math.hypot(dx, dy)
+        ux, uy = dx / ell, dy / ell
+        e = ell + g.p * (k_j - k_i) - g.D - g.rest
+        # dV/dphi: the seated roller's velocity per radian, a quarter turn of its radius
+        e_i = -(ux * -vi[1] + uy * vi[0])
+        e_j = ux * -vj[1] + uy * (vj[0] - g.D)
+        return e, e_i, e_j, (-uy, ux), (vi, vj, a_i, a_j)
+
+    def state(tt, y, seats, taut):
+        phi_d, w_d = driver_angle(tt)
+        phi, w = y
+        out = []
+        for g, (pi, wi), (pj, wj), sts, on in ((tight, (phi_d, w_d), (phi, w), seats[0], taut[0]),
+                                               (slack, (phi, w), (phi_d, w_d), seats[1], taut[1])):
+            e, e_i, e_j, n, _ = geometry(g, pi, pj, sts)
+            stretch = c * e + F0
+            force = stretch + b * (e_i * wi + e_j * wj)
+            out.append((force * on, e_i, e_j, stretch, force, n))
+        return out
+
+    def rhs(tt, y, seats, taut):
+        (ft, _, dt_j, *_), (fs, ds_i, *_) = state(tt, y, seats, taut)
+        return [y[1], (-ft * dt_j - fs * ds_i - LOAD) / J_DRIVEN]
+
+    def heights(g, phi_i, phi_j, sts):
+        """How far each seated roller's neighbours lie under the strand's line (>= 0 while it holds)."""
+        _, _, _, n, (vi, vj, a_i, a_j) = geometry(g, phi_i, phi_j, sts)
+        out = []
+        for v, a, z, R, centre in ((vi, a_i, g.z_i, g.R_i, 0.0), (vj, a_j, g.z_j, g.R_j, g.D)):
+            for step in (-1, 1):
+                w = (centre + R * math.cos(a + 2 * math.pi * step / z), R * math.sin(a + 2 * math.pi * step / z))
+                out.append(n[0] * (v[0] - w[0]) + n[1] * (v[1] - w[1]))
+        return out
+
+    def decide(tt, y):
+        phi_d, w_d = driver_angle(tt)
+        seats = tuple(tuple(int(k) for k in g.tangent(*pair)[:2])
+                      for g, pair in ((tight, (phi_d, y[0])), (slack, (y[0], phi_d))))
+        taut = tuple(bool(st > 0 and f > 0) for _, _, _, st, f, _ in state(tt, y, seats, (1, 1)))
+        return seats, taut
+
+    def events(seats, taut, skip=(), start=0.0):
+        """The stops of a piece; one that just fired without a change starts past its surface."""
+        fns = []
+        for which, g in ((0, tight), (1, slack)):
+            for m in range(4):
+                def seat(tt, y, *_, which=which, g=g, m=m, again=len(fns) in skip):
+                    phi_d = driver_angle(tt)[0]
+                    pi, pj = (phi_d, y[0]) if which == 0 else (y[0], phi_d)
+                    v = heights(g, pi, pj, seats[which])[m]
+                    return -max(abs(v), 1e-300) if again and tt == start else v
+                seat.terminal, seat.direction = True, -1
+                fns.append(seat)
+            for m in (3, 4):
+                def switch(tt, y, *_, which=which, m=m, again=len(fns) in skip, sign=(-1 if taut[which] else 1)):
+                    v = state(tt, y, seats, taut)[which][m]
+                    return sign * max(abs(v), 1e-300) if again and tt == start else v
+                switch.terminal, switch.direction = True, (-1 if taut[which] else 1)
+                fns.append(switch)
+        return fns
+
+    y, t0 = np.array([0.0, 0.0]), 0.0
+    out = {"w": [], "Ft": [], "Fs": []}
+    seats, taut = decide(0.0, y)
+    done = 0
+    stops = 0
+    skip = ()
+    flips = []          # the slack strand's switches
+    start_taut = taut[1]
+    while t0 < t[-1]:
+        grid = t[(t > t0) & (t <= t[-1])]
+        sol = solve_ivp(rhs, (t0, t[-1]), y, method="Radau", rtol=1e-11, atol=1e-13, t_eval=grid,
+                        events=events(seats, taut, skip, t0), args=(seats, taut), dense_output=False)
+        for tt, yy in zip(sol.t, np.reshape(sol.y, (2, -1)).T):
+            f = state(tt, yy, seats, taut)
+            out["w"].append(yy[1])
+            out["Ft"].append(f[0][0])
+            out["Fs"].append(f[1][0])
+        done += len(sol.t)
+        if sol.status != 1:
+            break
+        t_e, j = min((te[0], j) for j, te in enumerate(sol.t_events) if te.size)
+        y = sol.y_events[j][0]
+        ahead = y + 1e-9 * np.array(rhs(t_e, y, seats, taut))
+        before = (seats, taut)
+        seats, taut = decide(t_e + 1e-9, ahead)
+        skip = (skip if t_e == t0 else ()) + ((j,) if (seats, taut) == before else ())
+        if taut[1] != before[1][1]:
+            flips.append(t_e)
+        t0 = t_e
+        stops += 1
+        assert stops < 5000
+    assert done == t.size - 1
+    edges = [0.0] + flips + [float(t[-1])]
+    slack_time = sum(b - a for k, (a, b) in enumerate(zip(edges, edges[1:])) if (k % 2 == 0) != start_taut)
+    out = {k: np.concatenate([[v0], np.array(v)]) for (k, v), v0 in zip(out.items(), (0.0, F0, F0))}
+    return out, stops, slack_time
+
+
+@pytest.mark.slow
+def test_a_chain_drive_with_the_polygon_action_against_radau_with_events(tmp_path):
+    """``beltcalc simulate drive tests/data/chain_polygon.toml --json --csv``: the driven
+    sprocket's speed and both strands' forces, against the equations written out and solved
+    by Radau at rtol 1e-11 stopped at every seating and slack switch, within the run's own
+    error estimate; the slack strand goes slack and taut again."""
+    out = tmp_path / "run.csv"
+    code, stdout, _ = cli("simulate", "drive", str(DRIVE), "--json", "--csv", str(out))
+    assert code == 0
+    report = json.loads(stdout)
+    rows = list(csv.DictReader(out.open()))
+    t = np.array([float(r["t_s"]) for r in rows])
+    got = {k: np.array([float(r[k]) for r in rows]) for k in ("omega_driven_rad_per_s", "F_tight_N", "F_slack_N")}
+    ref, stops, slack_time = _reference(tuple(t))
+    assert stops > 30                          # seatings of both sprockets and slack switches
+    est = report["error_estimate"]["value"]
+    assert report["error_estimate"]["unit"] == "N"
+    for key, want in (("F_tight_N", ref["Ft"]), ("F_slack_N", ref["Fs"])):
+        assert_allclose(got[key], want, rtol=0, atol=est * 1.05 + 1e-9)
+    # the speed, judged by its own share of the estimate: a force error over c r^2 / (J w)
+    assert_allclose(got["omega_driven_rad_per_s"], ref["w"], rtol=0, atol=1e-6)
+    assert slack_time > 0.1
+    assert report["strands"]["slack"]["slack_time"]["value"] == pytest.approx(slack_time, abs=1e-9)
+    assert report["strands"]["tight"]["slack_time"]["value"] == 0.0

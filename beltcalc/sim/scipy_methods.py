@@ -169,8 +169,7 @@ def ahead(F: np.ndarray, z: np.ndarray, h: float) -> np.ndarray:
 def counting(name: str, counter: list[int]):
     """scipy's solver class ``name``, counting its accepted steps in ``counter[0]``
     (solve_ivp reports right-hand-side calls, not steps; each ``step()`` call that does
-    not fail is one accepted step) and keeping in ``counter[1]`` the step it would take next
-    (a restart after an event starts there, not from scratch)."""
+    not fail is one accepted step)."""
     import scipy.integrate
 
     base = getattr(scipy.integrate, name)
@@ -180,7 +179,6 @@ def counting(name: str, counter: list[int]):
             message = super().step()
             if self.status != "failed":
                 counter[0] += 1
-                counter[1] = getattr(self, "h_abs", None)      # the step it would take next
             return message
 
     Counting.__name__ = name
@@ -190,7 +188,7 @@ def counting(name: str, counter: list[int]):
 def ivp(name: str, uses_jac: bool):
     def run(network: Network, t: np.ndarray, x0: np.ndarray, cfg: SolverConfig):
         budget = new_budget(cfg, t[-1])
-        steps = [0, None]
+        steps = [0]
         solver = counting(name, steps)
         x = np.asarray(x0, dtype=float)
         starts = network.segment_starts(t[-1])
@@ -260,8 +258,6 @@ def _ivp_loop(network, t, x, cfg, name, uses_jac, budget, steps, solver, sw):
         if not t_eval or abs(t_eval[-1] - t_stop) > eps:
             t_eval.append(t_stop)
         kwargs = {"jac": jac} if uses_jac else {}
-        if steps[1] and t_cur > 0:      # after an event the step the solver had reached
-            kwargs["first_step"] = min(steps[1], t_stop - t_cur)
         try:
             sol = solve_ivp(rhs, (t_cur, t_stop), x, method=solver, t_eval=t_eval, rtol=cfg.rtol,
                             atol=cfg.atol, events=events or None, **kwargs)

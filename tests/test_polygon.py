@@ -488,3 +488,90 @@ def test_the_roller_table_with_the_polygon_action_against_radau_with_events(tmp_
     for name, spent in slack.items():
         assert report["strands"][name]["slack_time"]["value"] == pytest.approx(spent, abs=1e-9)
     assert est["value"] > 0
+
+
+def test_runs_with_many_teeth_converge_to_todays_strand():
+    """A driver at 10 rad/s pulling a loaded sprocket through two pretensioned strands, R held:
+    with z = 100 ... 800 teeth the run converges to today's round-sprocket run (the exact
+    solution), its mean strand force at order 2 in 1 / z (the mean radius R sinc(pi / z)) and
+    its largest force difference at least at order 1.5 (the pulse R (1 - cos(pi / z)) at the
+    rising tooth frequency)."""
+    from beltcalc.sim.core import SolverConfig, simulate
+    from beltcalc.sim.elements import Inertia, Load, Prescribed, Strand
+    from beltcalc.sim.network import Network
+
+    R, c, F0 = 0.05, 3e6, 300.0
+    b = 2e-4 * c
+
+    def net(z):
+        els = [Prescribed("driver", 10.0), Load("driven", 5.0)]
+        if z is None:
+            els += [Strand("tight", "driver", "driven", R, R, c, b, F0), Strand("slack", "driven", "driver", R, R, c, b, F0)]
+        else:
+            p = 2 * R * math.sin(math.pi / z)
+            els += [PolygonStrand("tight", "driver", "driven", p, z, z, 0.5, c, b, F0, 0.0, 0.0),
+                    PolygonStrand("slack", "driven", "driver", p, z, z, 0.5, c, b, F0, 0.0, 0.0)]
+        return Network([Inertia("driver", 2e-3), Inertia("driven", 4e-3)], els)
+
+    today = simulate(net(None), 0.05, 501, SolverConfig())
+    assert today.method == "exact"
+    teeth = np.array([100, 200, 400, 800])
+    peak, mean = [], []
+    for z in teeth:
+        r = simulate(net(int(z)), 0.05, 501, SolverConfig(estimate_error=False))
+        peak.append(np.abs(r["F_tight"] - today["F_tight"]).max())
+        mean.append(abs(r.summary("F_tight", 0.02).mean - today.summary("F_tight", 0.02).mean))
+    order_mean = -np.polyfit(np.log(teeth), np.log(mean), 1)[0]
+    order_peak = -np.polyfit(np.log(teeth), np.log(peak), 1)[0]
+    assert order_mean == pytest.approx(2.0, abs=0.2)
+    assert order_peak == pytest.approx(2.0, abs=0.5)
+
+
+# --- docs/chain_dynamics.md: its roller table is the stored benchmark -----------------------------
+ROOT = Path(__file__).resolve().parents[1]
+STORED = ROOT / "benchmarks" / "results" / "chain_dynamics.md"
+HEADER = "| supply | polygon |"
+
+
+def table_rows(text: str) -> list[str]:
+    lines = text.splitlines()
+    start = next(k for k, line in enumerate(lines) if line.startswith(HEADER))
+    rows = []
+    for line in lines[start + 2:]:
+        if not line.startswith("|"):
+            break
+        rows.append(line)
+    return rows
+
+
+def test_the_docs_roller_table_is_the_stored_one():
+    page = (ROOT / "docs" / "chain_dynamics.md").read_text(encoding="utf-8")
+    stored = table_rows(STORED.read_text(encoding="utf-8"))
+    assert len(stored) == 6 and table_rows(page) == stored
+    cells = {(r.split("|")[1].strip().split()[0], r.split("|")[2].strip()): [c.strip() for c in r.strip("|").split("|")]
+             for r in stored}
+    on, off = cells[("50", "on")], cells[("50", "off")]
+    # the figures the page's text quotes for the default speed, from the stored rows
+    for quote, figure, cell in [("(half peak-to-peak, roller 1): 0.146 rad/s", 0.146, on[6]),
+                                ("against 0.0002 rad/s with round sprockets", 0.0002, off[6]),
+                                ("of the tight strand: 4358 N", 4358, on[7]), ("against 4196 N", 4196, off[7])]:
+        assert " ".join(quote.split()) in " ".join(page.split())
+        assert float(cell) == pytest.approx(figure, rel=0.005)
+
+
+@pytest.mark.parametrize("supply", ["50", "40"])
+def test_the_stored_round_sprocket_rows_come_out_of_the_code(supply):
+    """The rows without the polygon action (exact, half a second each) re-run: mean speed,
+    ripple, peak force, slack time, tooth frequency and nearest mode as stored."""
+    stored = {r.split("|")[1].strip().split()[0]: [c.strip() for c in r.strip("|").split("|")]
+              for r in table_rows(STORED.read_text(encoding="utf-8")) if r.split("|")[2].strip() == "off"}
+    row = stored[supply]
+    code, stdout, _ = cli("simulate", "roller-table", "--json", "--set", f"supply_frequency={supply}Hz")
+    assert code == 0
+    r = json.loads(stdout)
+    got = [r["rollers"]["1"]["speed_mean"]["value"], r["rollers"]["1"]["speed_amplitude"]["value"],
+           r["strands"]["drive-sprocket1"]["force_max"]["value"], r["strands"]["sprocket3-drive"]["slack_time"]["value"],
+           r["chain"]["tooth_frequency"]["value"], r["chain"]["nearest_mode"]["value"]]
+    for value, cell in zip(got, row[5:11]):
+        digits = len(cell.split(".")[1]) if "." in cell else 0
+        assert value == pytest.approx(float(cell), abs=0.51 * 10 ** -digits + 1e-3 * abs(float(cell)))

@@ -59,6 +59,7 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
            'M. A. Miner, "Cumulative damage in fatigue", J. Appl. Mech. 12 (1945) A159-A164'),
     Source("Shigley", "Textbooks",
            "R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed., McGraw-Hill (2011)"),
+    Source("B56", "Textbooks", "R. C. Binder, Mechanics of the Roller Chain Drive, Prentice-Hall (1956)"),
     Source("DH56", "Textbooks", "J. P. Den Hartog, Mechanical Vibrations, 4th ed., McGraw-Hill (1956)"),
     Source("F88", "Textbooks",
            "A. F. Filippov, Differential Equations with Discontinuous Righthand Sides, Kluwer (1988)"),

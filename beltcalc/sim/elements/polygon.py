@@ -1,6 +1,6 @@
 r"""The element kind "polygon strand": a chain strand between two sprockets whose length follows
-each sprocket's angle through the tooth geometry, the polygon (chordal) action [ISO 10823
-sec. 5], [B56 ch. 4].
+each sprocket's angle through the tooth geometry, the polygon (chordal) action
+[ISO 10823 sec. 5], [B56 ch. 4].
 
 A chain seats its rollers on a sprocket's pitch polygon: z vertices on the pitch circle of
 radius R = p / (2 sin(pi / z)) [ISO 606 sec. 6]. The free strand is the straight line that
@@ -120,7 +120,7 @@ class PolygonStrand(Element):
     # --- the geometry -----------------------------------------------------------------------------
     @property
     def radii(self) -> tuple[float, float]:
-        """The pitch radii R = p / (2 sin(pi / z)) [m] [ISO 606 sec. 6]."""
+        """The pitch radii R = p / (2 sin(pi / z)), in m [ISO 606 sec. 6]."""
         return (self.pitch / (2 * math.sin(math.pi / self.z_i)), self.pitch / (2 * math.sin(math.pi / self.z_j)))
 
     @property

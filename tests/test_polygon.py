@@ -575,3 +575,23 @@ def test_the_stored_round_sprocket_rows_come_out_of_the_code(supply):
     for value, cell in zip(got, row[5:11]):
         digits = len(cell.split(".")[1]) if "." in cell else 0
         assert value == pytest.approx(float(cell), abs=0.51 * 10 ** -digits + 1e-3 * abs(float(cell)))
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"driver": ("teeth = 19\nchain = \"10B-1\"", "pitch_diameter = \"96 mm\"")},
+     "the polygon action needs the sprocket's teeth: give node 'driver' teeth and chain"),
+    ({"driver": ("chain = \"10B-1\"", "chain = \"08B-1\"")},
+     "not that of 19 teeth on 10B-1"),
+    ({"polygon": ("\npolygon = true", "\npolygon = false\nphase_to = \"10 deg\"")},
+     "phase_to: a phase needs polygon = true"),
+])
+def test_bad_polygon_strands_are_one_line_errors(tmp_path, change, message):
+    text = DRIVE.read_text(encoding="utf-8")
+    for old, new in change.values():
+        text = text.replace(old, new, 1)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text, encoding="utf-8")
+    code, stdout, stderr = cli("simulate", "drive", str(bad))
+    assert code == 1
+    assert message in stderr and "Traceback" not in stderr and len(stderr.strip().splitlines()) == 1
+    assert stdout == ""

@@ -393,7 +393,7 @@ class ChainStrandKind(Kind):
         else:
             for key in ("phase_from", "phase_to"):
                 if e.raw.get(key) is not None:
-                    b.fail(e, key, "a phase needs `polygon = true`")
+                    b.fail(e, key, "a phase needs polygon = true")
             b.add(Strand(e.name, i, j, r_i, r_j, c, damping, b.get(e, "pretension", 0.0)))
         b.limits[e.name] = (b.get(e, "breaking_load", chain.breaking_load), "breaking load")
         own = b.get(e, "allowable_dynamic_load")
@@ -416,13 +416,13 @@ class ChainStrandKind(Kind):
             raw = b.node_entries[node].raw
             z = raw.get("teeth")
             if z is None or raw.get("mass") is not None:
-                b.fail(e, "polygon", f"the polygon action needs the sprocket's teeth: give node {node!r} `teeth` "
-                                     f"and `chain`")
+                b.fail(e, "polygon", f"the polygon action needs the sprocket's teeth: give node {node!r} teeth "
+                                     f"and chain")
             d = sprocket_pitch_diameter(chain.pitch, int(z))
             if abs(d / 2 - r) > 1e-9 * d:
                 b.fail(e, "polygon", f"node {node!r} has a pitch diameter of {2 * r * 1e3:.6g} mm, not that of "
-                                     f"{int(z)} teeth on {chain.name} ({d * 1e3:.6g} mm): give it `chain = "
-                                     f"\"{chain.name}\"`")
+                                     f"{int(z)} teeth on {chain.name} ({d * 1e3:.6g} mm): give it chain = "
+                                     f"\"{chain.name}\"")
             teeth.append(int(z))
         return PolygonStrand(e.name, end_i[0], end_j[0], chain.pitch, teeth[0], teeth[1], length, c, damping,
                              b.get(e, "pretension", 0.0), b.get(e, "phase_from"), b.get(e, "phase_to"))

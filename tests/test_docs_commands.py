@@ -105,6 +105,9 @@ NOT_RUN: dict[str, str] = {
     "simulate sewing --set roller_eccentricity=2mm":
         "a run of 30-55 s that tests/test_hard_cases_cli.py runs as written (with --json and --csv) against "
         "an independent Radau reference",
+    "simulate roller-table --set polygon=on":
+        "a run of about 2 minutes; tests/test_polygon.py runs the scene with the polygon action (one roller, a short "
+        "start) against Radau with events, and benchmarks/chain_dynamics.py times the default",
     "simulate roller-table --method radau --rtol 1e-9":
         "a Radau run of about a minute over the default 7 s (its solver is scipy's; the exact run is compared with "
         "a Radau reference at rtol 1e-11 in tests/test_hard_cases_cli.py, and Radau is timed in docs/performance.md)",

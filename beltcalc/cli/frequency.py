@@ -356,19 +356,83 @@ def _print_response(d, r, spacing: str) -> None:
 @click.option("--points", type=click.IntRange(1, 100_000), default=2000, show_default=True,
               help="Frequencies (1: --from alone).")
 @click.option("--spacing", type=click.Choice(["log", "linear"]), default="log", show_default=True)
+@click.option("--polygon", "polygon", default=None, metavar="STRAND",
+              help="Instead: the steady response to chain strand STRAND's polygon action (its length pulse and "
+                   "lever-arm swing at the tooth frequency and its harmonics), at --speed.")
+@quantity_option("--speed", si_unit="rad/s", help="With --polygon: the speed of the strand's `from` sprocket, e.g. "
+                                                  "60rpm [default: none; required with --polygon].")
+@click.option("--harmonics", type=click.IntRange(1, 50), default=3, show_default=True,
+              help="With --polygon: harmonics of the tooth frequency.")
 def response(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path, inputs, outputs, f_from,
-             f_to, points, spacing):
+             f_to, points, spacing, polygon, speed, harmonics):
     """The frequency response H(jw) of a drive (default: the sewing drive) from each input to each
     output: magnitude in the output's unit per the input's unit, and phase, computed exactly
     (no time simulation); the resonance peaks with their frequency, magnitude and Q (half-power
-    bandwidth). --plot writes a Bode plot."""
+    bandwidth). --plot writes a Bode plot. With --polygon STRAND --speed W: the steady amplitude
+    of each output under that chain strand's polygon action, harmonic by harmonic."""
     from beltcalc.sim import frequency_report as fq
 
+    if polygon is not None or speed is not None:
+        return _polygon(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path, outputs,
+                        polygon, speed, harmonics, bool(inputs or f_from or f_to))
     d = _drive(drive, assignments, catalog_paths, plot_path, {"f_min": "--from", "f_max": "--to"}, modes_named)
     r = fq.response(d.network, list(inputs), list(outputs), f_from, f_to, points, spacing)
     _emit(csv_path, plot_path, as_json, lambda: _response_csv(r),
           lambda path: write_figure(response_figure(r, d.title), path),
           lambda: _with_mode(d, _response_json(d, r)), lambda: (_mode_note(d), _print_response(d, r, spacing)))
+
+
+def _polygon(drive, assignments, catalog_paths, plot_path, modes_named, as_json, csv_path, outputs, strand, speed,
+             harmonics, others) -> None:
+    """``response --polygon STRAND --speed W``: :func:`beltcalc.sim.polygon_response.polygon_response`."""
+    import numpy as np
+
+    from beltcalc.sim.polygon_response import polygon_response
+
+    if strand is None or speed is None:
+        raise click.UsageError("--polygon and --speed go together: name the chain strand and its sprocket's speed")
+    if others or plot_path:
+        raise click.UsageError("--polygon takes --output, --harmonics, --json and --csv; not --input, --from, --to "
+                               "or --plot")
+    d = _drive(drive, assignments, catalog_paths, None, modes_named=modes_named)
+    r = polygon_response(d, strand, speed, harmonics, list(outputs) or None)
+
+    def to_dict():
+        return {"drive": d.title, "file": d.path, "polygon": {
+            "strand": r.strand, "speed": _q(r.speed, "rad/s"), "tooth_frequency": _q(r.tooth_frequency, "Hz"),
+            "mean_force": _q(r.mean_force, "N"), "mean_force_origin": r.mean_force_origin,
+            "harmonics": [{"harmonic": k + 1, "frequency": _q(f, "Hz"), "pulse": _q(abs(r.pulse[k]), "m"),
+                           "outputs": {y: {"amplitude": _q(abs(v[k]), r.units[y]),
+                                           "phase": _q(float(np.angle(v[k])), "rad")} for y, v in r.outputs.items()}}
+                          for k, f in enumerate(r.frequencies)],
+            "bound": {y: _q(r.bound(y), r.units[y]) for y in r.outputs}}}
+
+    def to_csv():
+        header = ["harmonic", "f_Hz", "pulse_m"] + [f"{col}_{y}_{_tag(r.units[y]) if col == 'amp' else 'rad'}"
+                                                    for y in r.outputs for col in ("amp", "phase")]
+        return table_csv(header, ([str(k + 1), repr(f), repr(abs(r.pulse[k]))]
+                                  + [repr(x) for y in r.outputs for x in (abs(r.outputs[y][k]),
+                                                                         float(np.angle(r.outputs[y][k])))]
+                                  for k, f in enumerate(r.frequencies)))
+
+    def show():
+        from rich.table import Table
+
+        out = console(140)
+        out.print(f"{d.title}: the polygon action of strand {r.strand}, its `from` sprocket at {_text(r.speed)} rad/s "
+                  f"({_text(rpm(r.speed))} rpm): tooth frequency {_text(r.tooth_frequency)} Hz, mean force "
+                  f"{_text(r.mean_force)} N ({r.mean_force_origin})", markup=False, highlight=False, soft_wrap=True)
+        t = Table(title="steady amplitude per harmonic (strands taut)", title_justify="left")
+        for col in ["output", "unit"] + [f"{k + 1}: {_text(f)} Hz" for k, f in enumerate(r.frequencies)] + ["sum"]:
+            t.add_column(col, justify="left" if col in ("output", "unit") else "right")
+        t.add_row("length pulse", "m", *(_text(abs(e)) for e in r.pulse), "")
+        for y, v in r.outputs.items():
+            t.add_row(y, r.units[y], *(_text(abs(x)) for x in v), _text(r.bound(y)))
+        out.print(t)
+        out.print("sum: the harmonics' amplitudes added, an upper bound of the ripple (half peak-to-peak)",
+                  markup=False, highlight=False, soft_wrap=True)
+
+    _emit(csv_path, None, as_json, to_csv, None, lambda: _with_mode(d, to_dict()), lambda: (_mode_note(d), show()))
 
 
 # --- Campbell diagram -------------------------------------------------------------------------------------
@@ -388,6 +452,7 @@ def _campbell_json(d, c) -> dict:
     op = c.operating_speed
     return {
         "drive": d.title, "file": d.path, "reference": c.reference, "orders": c.orders,
+        "order_sources": [{"order": k, "source": src} for k, src in zip(c.orders, c.sources)],
         "speed_min": _q(c.speed_min, "rad/s"), "speed_max": _q(c.speed_max, "rad/s"),
         "operating_speed": _q(op, "rad/s") if op is not None else None, "motor": c.motor,
         "modes": [{"mode": k, "frequency": _q(p.frequency, "Hz"), "damping_ratio": _q(p.damping_ratio + 0.0, "1")}
@@ -402,9 +467,11 @@ def _campbell_json(d, c) -> dict:
 def _campbell_csv(c) -> str:
     op = c.operating_speed
     header = ["speed_rad_per_s", "speed_rpm", "order", "mode", "frequency_Hz", "damping_ratio",
-              "speed_per_operating_speed"]
+              "speed_per_operating_speed", "order_source"]
+    source = dict(zip(c.orders, c.sources))
     return table_csv(header, ([repr(x.speed), repr(rpm(x.speed)), repr(x.order), x.mode, repr(x.frequency),
-                               repr(x.damping_ratio + 0.0), repr(x.speed / op) if op else ""] for x in c.crossings))
+                               repr(x.damping_ratio + 0.0), repr(x.speed / op) if op else "",
+                               source.get(x.order, "")] for x in c.crossings))
 
 
 def _print_campbell(d, c) -> None:
@@ -428,6 +495,9 @@ def _print_campbell(d, c) -> None:
     modes = ", ".join(f"{k}: {_text(p.frequency)} Hz (damping ratio {_text(denoise(p.damping_ratio), 3)})"
                       for k, p in enumerate(c.modes, 1)) or "none"
     notes = [f"modes: {modes}"]
+    named = [f"{format_number(k, 4)}: {src}" for k, src in zip(c.orders, c.sources) if "teeth" in src or "load" in src]
+    if named:
+        notes.append("orders of the drive's own: " + "; ".join(named))
     if not c.crossings:
         notes.append("no order line crosses a mode inside the speed range")
     if op:
@@ -441,7 +511,8 @@ def _print_campbell(d, c) -> None:
 @drive_options
 @click.option("--orders", "orders_text", default=None, metavar="K,K,...",
               help="Excitation orders: an order k at a shaft speed Omega excites k Omega / 2 pi "
-                   "[default: 1,2,3 and the orders of the drive's own loads].")
+                   "[default: 1,2,3, the orders of the drive's own loads and every sprocket's and toothed "
+                   "pulley's tooth order, z times its speed ratio].")
 @quantity_option("--speed-max", si_unit="rad/s",
                  help="Highest speed of the reference node, e.g. 3000rpm [default: 1.2 x the induction motor's "
                       "synchronous speed, at the reference].")

@@ -11,7 +11,7 @@ the same model in both domains.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -299,7 +299,8 @@ def speed_ratio(net, node: str, to: str) -> float:
 @dataclass(frozen=True)
 class Campbell:
     """A Campbell diagram: the ``reference`` node whose speed Omega [rad/s] is the abscissa
-    (an order k excites k Omega / 2 pi [Hz]), the ``orders``, the speed range, the
+    (an order k excites k Omega / 2 pi [Hz]), the ``orders`` (``sources``: what excites each,
+    one text per order), the speed range, the
     reference's speed when the first induction motor turns at its synchronous speed
     (``operating_speed``, None without one; ``motor`` its name), the oscillatory modes
     (:class:`~beltcalc.sim.frequency.Pole`, mode 1 first) and the crossings."""
@@ -312,6 +313,33 @@ class Campbell:
     motor: str | None
     modes: list
     crossings: list
+    sources: list[str] = field(default_factory=list)
+
+
+def tooth_orders(drive, reference: str) -> list[tuple[float, str]]:
+    """The tooth-passing orders of the drive's sprockets and toothed pulleys, counted on the
+    reference node: z times the node's speed ratio to it (a chain's polygon action and a
+    toothed belt's mesh excite at z n [ISO 10823 sec. 5]); nodes of one order share a line,
+    named by all of them. A node that turns in no fixed ratio with the reference is left out.
+
+    >>> [(round(k, 6), s) for k, s in tooth_orders(load("roller_table"), "motor")]
+    [(0.76, 'teeth: drive, sprocket1, sprocket2, sprocket3 (19)'), (0.757905, 'teeth: idler1, idler2 (15)')]
+    """
+    net = drive.network
+    out: list[tuple[float, list[str], int]] = []
+    for node, z in getattr(drive, "teeth", {}).items():
+        if node not in net._node or net.node(node).translation:
+            continue
+        try:
+            k = z * abs(speed_ratio(net, node, reference))
+        except InputError:
+            continue
+        same = next((o for o in out if math.isclose(o[0], k, rel_tol=1e-9) and o[2] == z), None)
+        if same is None:
+            out.append((k, [node], z))
+        else:
+            same[1].append(node)
+    return [(k, f"teeth: {', '.join(nodes)} ({z})") for k, nodes, z in out]
 
 
 def load_orders(net, reference: str, operating: float | None) -> list[float]:
@@ -343,7 +371,8 @@ def campbell(drive, orders=None, speed_max: float | None = None, speed_min: floa
     ``reference`` defaults to the node of its first motor (else its first node),
     ``speed_max`` [rad/s] to :data:`RUN_UP_MARGIN` times the reference's speed when the
     first induction motor turns at its synchronous speed (the largest of its start table),
-    ``orders`` to 1, 2, 3 and the orders of the drive's own loads (:func:`load_orders`).
+    ``orders`` to 1, 2, 3, the orders of the drive's own loads (:func:`load_orders`) and its
+    sprockets' and toothed pulleys' tooth orders (:func:`tooth_orders`).
 
     >>> c = campbell(load("sewing"))
     >>> c.reference, round(c.speed_max, 3), [(round(x.speed, 3), round(x.order, 6)) for x in c.crossings]
@@ -384,8 +413,17 @@ def campbell(drive, orders=None, speed_max: float | None = None, speed_min: floa
     if not (math.isfinite(speed_min) and 0 <= speed_min < speed_max):
         raise InputError(f"{speed_min:g} rad/s; it must be >= 0 rad/s and below `speed_max` ({speed_max:g} rad/s)",
                          param="speed_min")
+    sources = ["harmonic of the reference's speed" if default else "given"] * len(orders)
     if default:
-        orders += [k for k in load_orders(net, reference, operating) if not any(math.isclose(k, x) for x in orders)]
+        extra = [(k, "a load of the drive") for k in load_orders(net, reference, operating)]
+        for k, source in extra + tooth_orders(drive, reference):
+            hit = next((m for m, x in enumerate(orders) if math.isclose(k, x, rel_tol=1e-9)), None)
+            if hit is None:
+                orders.append(k)
+                sources.append(source)
+            else:
+                sources[hit] += f"; {source}"
     crossings = fr.campbell(net, orders, speed_max, speed_min)
     osc = [p for p in fr.poles(net) if p.kind == "oscillatory"]
-    return Campbell(reference, orders, speed_min, speed_max, operating, motor.name if motor else None, osc, crossings)
+    return Campbell(reference, orders, speed_min, speed_max, operating, motor.name if motor else None, osc, crossings,
+                    sources)

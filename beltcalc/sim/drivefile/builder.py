@@ -69,6 +69,8 @@ class Builder:
         self.elements: list = []
         self.inertia: dict[str, float] = {}      # node -> its inertia, with the shares of shafts and strands
         self.radius: dict[str, float] = {}       # node -> pitch radius where strands leave it
+        self.teeth: dict[str, int] = {}          # node -> teeth of its sprocket or toothed pulley
+        self.lengths: dict[str, float] = {}      # chain strand -> its free length [m]
 
     @property
     def catalog(self):

@@ -102,6 +102,8 @@ class NodeKind(Kind):
         b.add_node(e.name, value, translation=mass is not None)
         d = b.get(e, "pitch_diameter")
         teeth = b.get(e, "teeth")
+        if teeth is not None:
+            b.teeth[e.name] = int(teeth)
         if d is None and teeth is not None:
             belt, chain = e.raw.get("belt"), e.raw.get("chain")
             if (belt is None) == (chain is None):
@@ -388,6 +390,7 @@ class ChainStrandKind(Kind):
         c = strand_stiffness(b.need(e, "stiffness"), length)
         beta = b.get(e, "damping_time")
         damping = b.get(e, "damping", 0.0) if beta is None else beta * c
+        b.lengths[e.name] = length
         if b.get(e, "polygon", False):
             b.add(cls.polygon(b, e, chain, (i, r_i), (j, r_j), length, c, damping))
         else:

@@ -33,6 +33,8 @@ class Drive:
     spans: dict[str, float] = field(default_factory=dict)            # two-way span -> lever r [m]
     limits: dict[str, tuple[float, str]] = field(default_factory=dict)  # strand -> (force limit [N], its name)
     fatigue: dict = field(default_factory=dict)      # chain strand -> its StrandFatigue (also ``network.fatigue``)
+    teeth: dict[str, int] = field(default_factory=dict)  # node -> teeth of its sprocket or toothed pulley
+    lengths: dict[str, float] = field(default_factory=dict)  # chain strand -> its free length [m]
     motors: list[tuple[str, str]] = field(default_factory=list)      # (torque signal, node)
     fits: dict[str, tuple[float, str]] = field(default_factory=dict)  # belt span -> (R^2 of its damping fit, the fit)
     inputs: dict = field(default_factory=dict)                       # address -> (SI value, origin)
@@ -207,7 +209,7 @@ class DriveFile:
         drive = Drive(title=b.head_text("title") or self.path.stem, path=str(self.path), network=net, t_end=t_end,
                       samples=samples, window=window, notes=b.notes, nodes=[n.name for n in net.nodes],
                       torques=b.torques, spans=b.spans, limits=b.limits, motors=b.motor_signals, fits=b.fits,
-                      inputs=b.used, fatigue=b.fatigue)
+                      inputs=b.used, fatigue=b.fatigue, teeth=b.teeth, lengths=b.lengths)
         if b.rigid:
             drive.notes += self._rigid_notes(values, catalog, net, b.rigid)
         return drive

@@ -23,6 +23,10 @@ The hooks an element may define (all optional, see :class:`Element`):
   an implicit solver with this analytic Jacobian;
 - ``switched`` and the hooks of :class:`beltcalc.sim.elements.switched.Switched`: modes of
   its own (friction that sticks, a drive's torque limit), switched by the core;
+- ``pieces``, ``piece_at(net, x)``, ``piece_events(net, piece)``: a nonlinear kind that is
+  smooth between surfaces of its own (a polygon strand's seatings and slack switches): the
+  scipy runs hold each such element on its piece (``net.pieces``) and stop at every surface
+  (:mod:`beltcalc.sim.elements.polygon`); ``tension_only``: reported as a strand;
 - ``outputs(net, t, X, accel)``: ``{signal: (array, SI unit)}`` from the states ``X`` and the
   coordinates' accelerations ``accel`` (rows ``n:2n`` of x', nothing else of it);
   ``outputs_of(net, elements, t, X, accel)`` (a classmethod) gives those of several elements

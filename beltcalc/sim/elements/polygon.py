@@ -369,7 +369,7 @@ class PolygonStrand(Element):
         # generalized forces beyond the stamped spring's -lin g
         gain = inv * held if constrained else inv
         acc = -(np.multiply.outer(ri, f * e_i) + np.multiply.outer(rj, f * e_j)) + np.multiply.outer(g, lin)
-        out[n:2 * n] += acc * (gain if X.ndim == 1 else gain[:, None])
+        out[n:2 * n] += acc * gain[:, None]
 
     def jacobian(self, net, x, jac) -> None:
         """d(the nonlinear terms)/d(state) at ``x``, on the side of each seating and of the

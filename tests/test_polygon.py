@@ -680,3 +680,47 @@ def test_the_polygon_response_against_a_time_run_to_steady_state():
             if name == "F_tight":
                 got = got + (c + 1j * k * Omega * b) * E[k - 1]      # ... plus the pulse's own stretch
             assert abs(got - r.outputs[name][k - 1]) <= 1e-6 * abs(r.outputs[name][0]), (name, k)
+
+
+def test_campbell_draws_the_tooth_orders_by_default():
+    """``beltcalc campbell roller_table``: the 19-tooth sprockets' order 19 / 25 of the motor
+    (two gear stages of 5) and the 15-tooth idlers' (their speed ratio on the pitch radii), each
+    named, and the crossings of the sprockets' order where 2 pi f_mode / k says."""
+    code, stdout, _ = cli("campbell", "roller_table", "--json")
+    assert code == 0
+    d = json.loads(stdout)
+    sources = {round(o["order"], 6): o["source"] for o in d["order_sources"]}
+    assert sources[0.76] == "teeth: drive, sprocket1, sprocket2, sprocket3 (19)"
+    idler = 15 * math.sin(math.pi / 15) / math.sin(math.pi / 19) / 25
+    assert sources[round(idler, 6)] == "teeth: idler1, idler2 (15)"
+    modes = {m["mode"]: m["frequency"]["value"] for m in d["modes"]}
+    tooth = [x for x in d["crossings"] if x["order"] == pytest.approx(0.76, rel=1e-9)]
+    assert tooth
+    for x in tooth:
+        assert x["speed"]["value"] == pytest.approx(2 * math.pi * modes[x["mode"]] / 0.76, rel=1e-9)
+    code, stdout, _ = cli("campbell", "roller_table", "--orders", "1", "--json")
+    assert json.loads(stdout)["orders"] == [1.0]
+
+
+def test_response_polygon_through_the_command(tmp_path):
+    """``beltcalc response roller_table --polygon drive-sprocket1 --speed 6.1rad/s --json --csv``:
+    the tooth frequency 19 x 6.1 / 2 pi, one row per harmonic, the bound the sum of the
+    harmonics; bad options are one-line errors."""
+    out = tmp_path / "h.csv"
+    code, stdout, _ = cli("response", "roller_table", "--polygon", "drive-sprocket1", "--speed", "6.1rad/s",
+                          "--harmonics", "4", "--json", "--csv", str(out))
+    assert code == 0
+    p = json.loads(stdout)["polygon"]
+    assert p["tooth_frequency"]["value"] == pytest.approx(19 * 6.1 / (2 * math.pi), rel=1e-12)
+    assert [h["harmonic"] for h in p["harmonics"]] == [1, 2, 3, 4]
+    amp = [h["outputs"]["F_drive-sprocket1"]["amplitude"]["value"] for h in p["harmonics"]]
+    assert p["bound"]["F_drive-sprocket1"]["value"] == pytest.approx(sum(amp), rel=1e-12)
+    rows = list(csv.DictReader(out.open()))
+    assert len(rows) == 4 and float(rows[0]["pulse_m"]) == pytest.approx(p["harmonics"][0]["pulse"]["value"])
+    for args, exit_code, text in [(["--polygon", "nope", "--speed", "1rad/s"], 2, "'nope' is not a strand"),
+                                  (["--polygon", "drive-sprocket1"], 2, "--polygon and --speed go together"),
+                                  (["--polygon", "drive-sprocket1", "--speed", "0rad/s"], 1, "--speed"),
+                                  (["--polygon", "drive-sprocket1", "--speed", "1rad/s", "--harmonics", "51"], 2,
+                                   "--harmonics")]:
+        code, stdout, stderr = cli("response", "roller_table", *args)
+        assert code == exit_code and text in stderr and "Traceback" not in stderr, (args, stderr)

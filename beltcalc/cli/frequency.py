@@ -410,9 +410,9 @@ def _polygon(drive, assignments, catalog_paths, plot_path, modes_named, as_json,
     def to_csv():
         header = ["harmonic", "f_Hz", "pulse_m"] + [f"{col}_{y}_{_tag(r.units[y]) if col == 'amp' else 'rad'}"
                                                     for y in r.outputs for col in ("amp", "phase")]
-        return table_csv(header, ([str(k + 1), repr(f), repr(abs(r.pulse[k]))]
-                                  + [repr(x) for y in r.outputs for x in (abs(r.outputs[y][k]),
-                                                                         float(np.angle(r.outputs[y][k])))]
+        return table_csv(header, ([str(k + 1), repr(float(f)), repr(float(abs(r.pulse[k])))]
+                                  + [repr(float(x)) for y in r.outputs for x in (abs(r.outputs[y][k]),
+                                                                                np.angle(r.outputs[y][k]))]
                                   for k, f in enumerate(r.frequencies)))
 
     def show():
@@ -467,11 +467,9 @@ def _campbell_json(d, c) -> dict:
 def _campbell_csv(c) -> str:
     op = c.operating_speed
     header = ["speed_rad_per_s", "speed_rpm", "order", "mode", "frequency_Hz", "damping_ratio",
-              "speed_per_operating_speed", "order_source"]
-    source = dict(zip(c.orders, c.sources))
+              "speed_per_operating_speed"]
     return table_csv(header, ([repr(x.speed), repr(rpm(x.speed)), repr(x.order), x.mode, repr(x.frequency),
-                               repr(x.damping_ratio + 0.0), repr(x.speed / op) if op else "",
-                               source.get(x.order, "")] for x in c.crossings))
+                               repr(x.damping_ratio + 0.0), repr(x.speed / op) if op else ""] for x in c.crossings))
 
 
 def _print_campbell(d, c) -> None:

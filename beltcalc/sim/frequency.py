@@ -413,8 +413,8 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
         raise InputError("an input still ramps after the last break point: no periodic steady state", param="drive")
     lin = net.linear_rows()
     rows = [output_row(net, y, lin) for y in outputs]
-    mean_x = _mean_state(A, B[:, 0])
-    if _free_speed(A):
+    mean_x = mean_state(A, B[:, 0])
+    if free_speed(A):
         raise InputError("the drive's speed is set by no balance (it turns freely, or a node's motion is prescribed: "
                          "a double pole at 0), so its steady speed is what the history left it; no periodic steady "
                          "state", param="drive")
@@ -440,7 +440,7 @@ def steady_state(net, outputs: list[str], t_after: float | None = None) -> Stead
     return SteadyState(mean, amplitude, comps, units, list(freqs), len(freqs) <= 1)
 
 
-def _mean_state(A: np.ndarray, b0: np.ndarray) -> np.ndarray:
+def mean_state(A: np.ndarray, b0: np.ndarray) -> np.ndarray:
     """A particular constant-input steady state: x = a + N beta t with A a = N beta - b0 and
     A N = 0 (a drive turning at a constant speed); refused where the constant inputs make
     the drive accelerate (the null space is defective: no balance). One system of
@@ -452,13 +452,13 @@ def _mean_state(A: np.ndarray, b0: np.ndarray) -> np.ndarray:
     return a[0]
 
 
-def _free_speed(A: np.ndarray) -> bool:
+def free_speed(A: np.ndarray) -> bool:
     """True where A's zero eigenvalue is defective (a Jordan block: a speed that no balance
     sets, e.g. a drive with no motor or ground, whose angle grows as Omega t for any Omega).
     The rank decision of :func:`mean_states` (balanced, singular values at most ``1e-10
     s_max``), and its test of ``L^T N`` for a Jordan block.
 
-    >>> _free_speed(np.array([[0.0, 1.0], [0.0, 0.0]])), _free_speed(np.array([[0.0, 1.0], [0.0, -2.0]]))
+    >>> free_speed(np.array([[0.0, 1.0], [0.0, 0.0]])), free_speed(np.array([[0.0, 1.0], [0.0, -2.0]]))
     (True, False)
     """
     from beltcalc.numerics.balance import balance
@@ -475,7 +475,7 @@ def _free_speed(A: np.ndarray) -> bool:
 
 
 def mean_states(A: np.ndarray, b0: np.ndarray, scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_mean_state` of a stack of systems ``A`` (R, m, m), ``b0`` (R, m) at once (a
+    """:func:`mean_state` of a stack of systems ``A`` (R, m, m), ``b0`` (R, m) at once (a
     study's runs): ``(a, ok)``, ``ok[r]`` False where system r does not balance.
 
     Each ``A`` is balanced first (a diagonal similarity D^-1 A D of powers of two,

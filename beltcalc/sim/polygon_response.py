@@ -104,7 +104,7 @@ def polygon_response(drive, name: str, speed: float, harmonics: int = 3, outputs
     """The :class:`PolygonResponse` of strand ``name`` with its ``from`` sprocket at ``speed``
     [rad/s], harmonics 1..``harmonics``, for ``outputs`` (default: every node's speed and the
     strand's force ``F_<name>``); ``mean_force`` [N] instead of the static balance's."""
-    from beltcalc.sim.frequency import _free_speed, _mean_state, output_row, solve_jw
+    from beltcalc.sim.frequency import free_speed, mean_state, output_row, solve_jw
 
     require_positive("speed", speed, "rad/s")
     if not (isinstance(harmonics, int) and 1 <= harmonics <= 50):
@@ -118,9 +118,9 @@ def polygon_response(drive, name: str, speed: float, harmonics: int = 3, outputs
     if mean_force is None:
         origin = "the static balance, every strand taut"
         try:
-            if _free_speed(A):
+            if free_speed(A):
                 raise InputError("free", param="drive")
-            x_bar = _mean_state(A, B[:, 0])
+            x_bar = mean_state(A, B[:, 0])
             r_i, r_j = strand.mean_radii
             g = r_i * net.node_row(strand.i) - r_j * net.node_row(strand.j)
             mean_force = strand.preload + strand.stiffness * float(g @ x_bar[:n])

@@ -429,7 +429,7 @@ def span_phase(length: float, pitch: float, teeth: int) -> float:
     round (to first order in 1 / z; any phase is a chain's, this one a span's own).
 
     >>> round(span_phase(0.6, 0.015875, 19), 6)      # 37.795 pitches: 0.795 of a tooth
-    0.262898
+    0.262993
     """
     f = length / pitch - math.floor(length / pitch)
     return TWO_PI * f / teeth

@@ -627,6 +627,7 @@ def test_the_pulse_harmonics_against_a_least_squares_fit():
         assert_allclose(fitted, want, rtol=0, atol=tol * np.abs(signal).max())
 
 
+@pytest.mark.slow
 def test_the_polygon_response_against_a_time_run_to_steady_state():
     """``response --polygon``'s harmonics of a driven sprocket's speed and of the strand force,
     against the linear drive integrated in time (scipy Radau, rtol 1e-10) under the same
@@ -666,7 +667,7 @@ def test_the_polygon_response_against_a_time_run_to_steady_state():
         return dx
 
     period = 2 * math.pi / Omega
-    periods = 60                                     # the bearings' pole (1/e in 8 ms) long gone
+    periods = 20                                     # the bearings' pole (1/e in 8 ms) gone 90 times over
     t_eval = np.linspace((periods - 5) * period, periods * period, 5 * 64 + 1)
     sol = solve_ivp(rhs, (0.0, periods * period), np.zeros(net.size), method="Radau", rtol=1e-10, atol=1e-14,
                     t_eval=t_eval, jac=lambda t, x: A)

@@ -6,6 +6,11 @@ synchronous speed). SI floats only; nothing here prints, parses options or write
 
 Poles and shapes come from the state matrix the time simulation propagates (strands taut):
 the same model in both domains.
+
+References:
+
+[ISO 10823] ISO 10823:2004, Guidance on the selection of roller chain drives: the polygon
+    effect at the tooth-passing frequency z n.
 """
 
 from __future__ import annotations

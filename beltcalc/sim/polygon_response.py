@@ -18,9 +18,14 @@ harmonics k = 1..H at k times the tooth frequency. Each harmonic's response foll
 X_k = (j k Omega I - A)^{-1} B_k (:func:`beltcalc.sim.frequency.solve_jw`), an output y = c X_k,
 and the strand's own force F_k = (c + j k Omega b)(g . Q_k + E_k).
 
-The mean force is the static balance's where the drive has one (:func:`beltcalc.sim.frequency.mean_states`
+The mean force is the static balance's where the drive has one (:func:`beltcalc.sim.frequency.mean_state`
 with every strand taut), else the strand's pretension. The sum of the harmonics' amplitudes bounds
 the ripple's half peak-to-peak from above.
+
+References:
+
+[ISO 10823] ISO 10823:2004, Guidance on the selection of roller chain drives: the polygon
+    effect, chain speed between omega R cos(180 deg / z) and omega R.
 """
 
 from __future__ import annotations

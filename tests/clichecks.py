@@ -117,6 +117,25 @@ def shared_run(*args: str):
     return _SHARED[args]
 
 
+def shared_path(name: str) -> Path:
+    """A file a :func:`shared_run` writes (``--csv``) where every process of the session finds it:
+    in ``SHARED_DIR``, else in a folder of this process."""
+    import os
+    import tempfile
+
+    folder = SHARED_DIR if SHARED_DIR is not None else Path(tempfile.gettempdir()) / f"beltcalc-shared-{os.getpid()}"
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder / name
+
+
+def sewing_eccentric_run():
+    """(the run, its CSV's path) of ``simulate sewing --set roller_eccentricity=2mm --json --csv``,
+    once per session: a Radau run of 30-55 s that tests/test_eccentric.py and
+    tests/test_hard_cases_cli.py both read."""
+    path = shared_path("sewing_eccentric.csv")
+    return shared_run("simulate", "sewing", "--set", "roller_eccentricity=2mm", "--json", "--csv", str(path)), path
+
+
 def _invoke(args):
     from click.testing import CliRunner
 

@@ -189,8 +189,9 @@ def test_sewing_scene_with_the_eccentric_roller():
 
     from beltcalc.cli.main import cli
 
-    args = ["simulate", "sewing", "--set", "roller_eccentricity=2mm"]          # docs/scenes.md's run
-    result = CliRunner().invoke(cli, args + ["--json"])
+    from clichecks import sewing_eccentric_run
+
+    result, _ = sewing_eccentric_run()                  # docs/scenes.md's run, shared with the hard cases
     assert result.exit_code == 0, result.output
     out = json.loads(result.stdout)
     geo = Eccentric(r1=0.025, r2=0.025 * 1.375, a=0.25, r3=0.02, px=0.125, py=-0.04, delta=0.002)
@@ -221,7 +222,8 @@ def test_sewing_scene_with_the_eccentric_roller():
         values = value if isinstance(value, tuple) else (value,)
         for shown, v in zip(numbers, values):          # to half a unit of the last printed digit
             assert v == pytest.approx(float(shown), abs=0.5 * 10 ** -len(shown.split(".")[1])), text
-    refused = CliRunner().invoke(cli, args + ["--steady-state-only"])
+    refused = CliRunner().invoke(cli, ["simulate", "sewing", "--set", "roller_eccentricity=2mm",
+                                       "--steady-state-only"])
     assert refused.exit_code == 1 and "no exact steady state" in refused.stderr
 
 

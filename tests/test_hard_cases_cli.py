@@ -788,8 +788,11 @@ def test_sewing_eccentric_roller_against_radau(tmp_path):
     doc, arrays = load_reference("sewing_ecc")
     p, figs = doc["meta"]["params"], doc["window"]
     assert whole_periods_start(1.0, 0.5, p["w_load"]) == pytest.approx(doc["meta"]["window_start_s"], abs=1e-15)
-    path = tmp_path / "sewing.csv"
-    run = beltcalc_json("simulate", "sewing", "--set", "roller_eccentricity=2mm", "--csv", str(path))
+    from clichecks import sewing_eccentric_run
+
+    res, path = sewing_eccentric_run()                  # shared with tests/test_eccentric.py
+    assert res.exit_code == 0, res.output[-3000:]
+    run = json.loads(res.stdout)
     assert val(run["inputs"]["roller_eccentricity"]) == pytest.approx(p["delta"], rel=1e-15)
     units = {"omega_1": "rad/s", "omega_3": "rad/s", "omega_5": "rad/s", "accel_3": "rad/s^2",
              "accel_5": "rad/s^2", "T_23": "N*m", "T_45": "N*m", "M_motor": "N*m"}

@@ -336,7 +336,7 @@ def tooth_orders(drive, reference: str) -> list[tuple[float, str]]:
         if node not in net._node or net.node(node).translation:
             continue
         try:
-            k = z * abs(speed_ratio(net, node, reference))
+            k = float(f"{z * abs(speed_ratio(net, node, reference)):.12g}")   # the solve's rounding off
         except InputError:
             continue
         same = next((o for o in out if math.isclose(o[0], k, rel_tol=1e-9) and o[2] == z), None)

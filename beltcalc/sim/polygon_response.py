@@ -19,8 +19,16 @@ X_k = (j k Omega I - A)^{-1} B_k (:func:`beltcalc.sim.frequency.solve_jw`), an o
 and the strand's own force F_k = (c + j k Omega b)(g . Q_k + E_k).
 
 The mean force is the static balance's where the drive has one (:func:`beltcalc.sim.frequency.mean_state`
-with every strand taut), else the strand's pretension. The sum of the harmonics' amplitudes bounds
-the ripple's half peak-to-peak from above.
+with every strand taut); where its speed is set by no balance of its own (a prescribed node), the
+balance turning as a rigid body at the given speed (:func:`balanced_force`); else the strand's
+pretension. The sum of the harmonics' amplitudes bounds the ripple's half peak-to-peak from above.
+
+Validity: the solve holds the strand's lever arms and stiffness at their means; over a tooth period
+they swing by about 1 - cos(pi / z) of themselves (2.2 % at 15 teeth), a time-periodic term it
+leaves out. Against the nonlinear run of one strand in steady state (tests/test_polygon_response.py)
+the first harmonic agrees to 0.14 %, the others to about 1 - cos(pi / z) of the first's amplitude.
+A plain chain strand keeps the network's pitch-radius spring; its excitation is the polygon's on
+the mean radii (their difference, 0.5 % at 19 teeth, is the plain model's own).
 
 References:
 
@@ -77,15 +85,21 @@ def strand_geometry(drive, name: str):
     s = strands[name]
     if isinstance(s, PolygonStrand):
         return s
+    if name not in getattr(drive, "lengths", {}):
+        raise InputError(f"{name} is not a chain strand (a belt span or another strand: a belt wraps its pulleys "
+                         "on their pitch circles, with no polygon action); name a [[chain_strand]]", param="polygon")
     teeth = getattr(drive, "teeth", {})
     if s.j is None or s.i not in teeth or s.j not in teeth:
         raise InputError(f"strand {name} does not run between two toothed nodes (give its nodes teeth): no polygon "
                          "action", param="polygon")
     z_i, z_j = teeth[s.i], teeth[s.j]
     pitch = 2 * s.r_i * math.sin(math.pi / z_i)
-    length = getattr(drive, "lengths", {}).get(name)
-    if length is None:
-        raise InputError(f"strand {name} has no free length on record: no polygon geometry", param="polygon")
+    other = 2 * s.r_j * math.sin(math.pi / z_j)
+    if abs(other - pitch) > 1e-6 * pitch:
+        raise InputError(f"strand {name}: the pitch radii of {s.i} ({z_i} teeth) and {s.j} ({z_j} teeth) give two "
+                         f"pitches, {pitch * 1e3:.6g} mm and {other * 1e3:.6g} mm (give both nodes the strand's chain "
+                         "instead of a pitch diameter): no polygon geometry", param="polygon")
+    length = drive.lengths[name]
     return PolygonStrand(name, s.i, s.j, pitch, z_i, z_j, length, s.stiffness, s.damping, s.preload)
 
 
@@ -104,12 +118,64 @@ def harmonics_of(strand, speed: float, harmonics: int):
     return omega, coef[0], coef[1], coef[2]
 
 
+def balanced_force(net, strand, speed: float, A: np.ndarray, b0: np.ndarray) -> tuple[float, str]:
+    """(the strand's mean force [N], where it comes from): the static balance of the drive's
+    linear part (every strand taut) under its constant inputs ``b0``. Where the drive's speed is
+    set by no balance of its own (a prescribed node, no motor: :func:`~beltcalc.sim.frequency.free_speed`),
+    the balance turning as a rigid body with sprocket ``i`` at ``speed`` [rad/s] (a viscous
+    load's torque then counts); where the constant torques do not balance, the pretension.
+    The force is the strand's own stamped spring's, F_0 + c g x + b g x' (the pretensions of
+    polygon strands, which their nonlinear part carries, added to ``b0``)."""
+    from beltcalc.sim.elements.polygon import polygon_strands
+    from beltcalc.sim.frequency import free_speed, mean_state
+
+    n = net.n
+    b0 = b0.copy()
+    held = np.array([0.0 if c in net.fixed else 1.0 / net.mass[c] for c in range(n)])
+    for p in polygon_strands(net):       # their pretension is in their nonlinear part, not in B
+        b0[n:2 * n] -= held * p.deflection(net) * p.preload
+    row = strand.deflection(net) if hasattr(strand, "deflection") else None
+    if row is None:                      # a plain strand: its pitch radii
+        row = strand.r_i * net.node_row(strand.i) - strand.r_j * net.node_row(strand.j)
+    try:
+        if not free_speed(A):
+            x_bar = mean_state(A, b0)
+            return strand.preload + strand.stiffness * float(row @ x_bar[:n]), "the static balance, every strand taut"
+        z = rotation(net, strand.i, speed)
+        cols = np.r_[0:n, 2 * n:net.size]             # the angles and extra states; the speeds are z
+        v = np.zeros(net.size)
+        v[:n] = z
+        rhs = v - b0 - A[:, n:2 * n] @ z
+        a = np.linalg.lstsq(A[:, cols], rhs, rcond=None)[0]
+        scale = max(float(np.abs(b0).max(initial=0.0)), float(np.abs(A[:, n:2 * n] @ z).max(initial=0.0)), 1e-300)
+        if np.abs(A[:, cols] @ a - rhs).max() > 1e-8 * scale:
+            raise InputError("the constant torques do not balance", param="drive")
+        force = strand.preload + strand.stiffness * float(row @ a[:n]) + strand.damping * float(row @ z)
+        return force, "the static balance turning at --speed, every strand taut"
+    except (InputError, np.linalg.LinAlgError):
+        return strand.preload, "the pretension (the drive's constant torques do not balance)"
+
+
+def rotation(net, node: str, speed: float) -> np.ndarray:
+    """The rigid-body motion over the coordinates [rad/s] (no coupling or taut strand strained)
+    that turns ``node`` at ``speed``: the least-norm one in the null space of M^-1/2 K M^-1/2
+    (as :func:`beltcalc.sim.frequency_report.speed_ratio` finds it). Refused where none turns it."""
+    s = 1.0 / np.sqrt(net.mass)
+    w2, V = np.linalg.eigh(net.K * s[:, None] * s[None, :])
+    floor = 1e-9 * max(1.0, float(np.max(np.abs(w2)))) if w2.size else 0.0
+    N = s[:, None] * V[:, np.abs(w2) <= floor]
+    a = net.node_row(node) @ N
+    if not float(a @ a) > 0:
+        raise InputError(f"node {node!r} turns in no rigid-body motion of the drive", param="speed")
+    return N @ (a * (speed / float(a @ a)))
+
+
 def polygon_response(drive, name: str, speed: float, harmonics: int = 3, outputs: list[str] | None = None,
                      mean_force: float | None = None) -> PolygonResponse:
     """The :class:`PolygonResponse` of strand ``name`` with its ``from`` sprocket at ``speed``
     [rad/s], harmonics 1..``harmonics``, for ``outputs`` (default: every node's speed and the
     strand's force ``F_<name>``); ``mean_force`` [N] instead of the static balance's."""
-    from beltcalc.sim.frequency import free_speed, mean_state, output_row, solve_jw
+    from beltcalc.sim.frequency import output_row, solve_jw
 
     require_positive("speed", speed, "rad/s")
     if not (isinstance(harmonics, int) and 1 <= harmonics <= 50):
@@ -121,16 +187,8 @@ def polygon_response(drive, name: str, speed: float, harmonics: int = 3, outputs
     breaks = net.breaks(math.inf)
     A, B = net.first_order(None, (max(breaks) if breaks else 0.0) + 1.0)     # the inputs after every break
     if mean_force is None:
-        origin = "the static balance, every strand taut"
-        try:
-            if free_speed(A):
-                raise InputError("free", param="drive")
-            x_bar = mean_state(A, B[:, 0])
-            r_i, r_j = strand.mean_radii
-            g = r_i * net.node_row(strand.i) - r_j * net.node_row(strand.j)
-            mean_force = strand.preload + strand.stiffness * float(g @ x_bar[:n])
-        except (InputError, np.linalg.LinAlgError):
-            mean_force, origin = strand.preload, "the pretension (the drive's speed is set by no static balance)"
+        own = next(s for s in net.tension_strands if s.name == name)     # the strand the network stamps
+        mean_force, origin = balanced_force(net, own, speed, A, B[:, 0])
     else:
         origin = "given"
     omega, E, Li, Lj = harmonics_of(strand, speed, harmonics)

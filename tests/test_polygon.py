@@ -163,6 +163,22 @@ def test_many_teeth_converge_to_todays_strand_at_order_two():
     assert_allclose(orders, 2.0, atol=0.15)
 
 
+def seated(g, pi, pj, seats):
+    """A strand of :class:`Polygons` on the rollers ``seats`` = (k_i, k_j) at the angles ``pi``,
+    ``pj``: (e, de/dphi_i, de/dphi_j, the line's normal, V_i, V_j, their polar angles), the
+    seated rollers held (the smooth branch past a seating too)."""
+    k_i, k_j = seats
+    a_i = g.beta0 + g.psi_i + pi + 2 * math.pi * k_i / g.z_i
+    a_j = g.beta0 + g.psi_j + pj + 2 * math.pi * k_j / g.z_j
+    vi = (g.R_i * math.cos(a_i), g.R_i * math.sin(a_i))
+    vj = (g.D + g.R_j * math.cos(a_j), g.R_j * math.sin(a_j))
+    dx, dy = vj[0] - vi[0], vj[1] - vi[1]
+    ell = math.hypot(dx, dy)
+    ux, uy = dx / ell, dy / ell
+    e = ell + g.p * (k_j - k_i) - g.D - g.rest
+    return e, -(ux * -vi[1] + uy * vi[0]), ux * -vj[1] + uy * (vj[0] - g.D), (-uy, ux), vi, vj, a_i, a_j
+
+
 # --- a run of the drive file against the equations written out --------------------------------
 # tests/data/chain_polygon.toml: the driver prescribed, the driven sprocket free
 J_DRIVEN, LOAD, F0, EA, BETA, L = 4e-3, 12.0, 160.0, 1.5e6, 2e-4, 0.5
@@ -192,32 +208,16 @@ def solve_reference(t):
     tight = Polygons(P10B, Z_DRIVER, Z_DRIVEN, L, 0.0, span_phase(L, P10B, Z_DRIVEN))
     slack = Polygons(P10B, Z_DRIVEN, Z_DRIVER, L, 0.0, span_phase(L, P10B, Z_DRIVER))
 
-    def geometry(g, phi_i, phi_j, seats):
-        """(e, de/dphi_i, de/dphi_j, line normal, seated vertices' unit vectors) with the seats held."""
-        k_i, k_j = seats
-        a_i = g.beta0 + g.psi_i + phi_i + 2 * math.pi * k_i / g.z_i
-        a_j = g.beta0 + g.psi_j + phi_j + 2 * math.pi * k_j / g.z_j
-        vi = (g.R_i * math.cos(a_i), g.R_i * math.sin(a_i))
-        vj = (g.D + g.R_j * math.cos(a_j), g.R_j * math.sin(a_j))
-        dx, dy = vj[0] - vi[0], vj[1] - vi[1]
-        ell = math.hypot(dx, dy)
-        ux, uy = dx / ell, dy / ell
-        e = ell + g.p * (k_j - k_i) - g.D - g.rest
-        # dV/dphi: the seated roller's velocity per radian, a quarter turn of its radius
-        e_i = -(ux * -vi[1] + uy * vi[0])
-        e_j = ux * -vj[1] + uy * (vj[0] - g.D)
-        return e, e_i, e_j, (-uy, ux), (vi, vj, a_i, a_j)
-
     def state(tt, y, seats, taut):
         phi_d, w_d = driver_angle(tt)
         phi, w = y
         out = []
         for g, (pi, wi), (pj, wj), sts, on in ((tight, (phi_d, w_d), (phi, w), seats[0], taut[0]),
                                                (slack, (phi, w), (phi_d, w_d), seats[1], taut[1])):
-            e, e_i, e_j, n, _ = geometry(g, pi, pj, sts)
+            e, e_i, e_j, *_ = seated(g, pi, pj, sts)
             stretch = c * e + F0
             force = stretch + b * (e_i * wi + e_j * wj)
-            out.append((force * on, e_i, e_j, stretch, force, n))
+            out.append((force * on, e_i, e_j, stretch, force))
         return out
 
     def rhs(tt, y, seats, taut):
@@ -226,7 +226,7 @@ def solve_reference(t):
 
     def heights(g, phi_i, phi_j, sts):
         """How far each seated roller's neighbours lie under the strand's line (>= 0 while it holds)."""
-        _, _, _, n, (vi, vj, a_i, a_j) = geometry(g, phi_i, phi_j, sts)
+        _, _, _, n, vi, vj, a_i, a_j = seated(g, phi_i, phi_j, sts)
         out = []
         for v, a, z, R, centre in ((vi, a_i, g.z_i, g.R_i, 0.0), (vj, a_j, g.z_j, g.R_j, g.D)):
             for step in (-1, 1):
@@ -238,7 +238,7 @@ def solve_reference(t):
         phi_d, w_d = driver_angle(tt)
         seats = tuple(tuple(int(k) for k in g.tangent(*pair)[:2])
                       for g, pair in ((tight, (phi_d, y[0])), (slack, (y[0], phi_d))))
-        taut = tuple(bool(st > 0 and f > 0) for _, _, _, st, f, _ in state(tt, y, seats, (1, 1)))
+        taut = tuple(bool(st > 0 and f > 0) for _, _, _, st, f in state(tt, y, seats, (1, 1)))
         return seats, taut
 
     def events(seats, taut, skip=(), start=0.0):
@@ -353,18 +353,6 @@ def network_reference(net, t, rtol=1e-11):
 
     def ends(x, ri, rj):
         return float(ri @ x[:n]), float(rj @ x[:n]), float(ri @ x[n:2 * n]), float(rj @ x[n:2 * n])
-
-    def seated(g, pi, pj, seats):
-        k_i, k_j = seats
-        a_i = g.beta0 + g.psi_i + pi + 2 * math.pi * k_i / g.z_i
-        a_j = g.beta0 + g.psi_j + pj + 2 * math.pi * k_j / g.z_j
-        vi = (g.R_i * math.cos(a_i), g.R_i * math.sin(a_i))
-        vj = (g.D + g.R_j * math.cos(a_j), g.R_j * math.sin(a_j))
-        dx, dy = vj[0] - vi[0], vj[1] - vi[1]
-        ell = math.hypot(dx, dy)
-        ux, uy = dx / ell, dy / ell
-        e = ell + g.p * (k_j - k_i) - g.D - g.rest
-        return e, -(ux * -vi[1] + uy * vi[0]), ux * -vj[1] + uy * (vj[0] - g.D), (-uy, ux), vi, vj, a_i, a_j
 
     def forces(x, mode):
         out = []

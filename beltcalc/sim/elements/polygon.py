@@ -168,22 +168,25 @@ class PolygonStrand(Element):
         ``phi_i``, ``phi_j`` [rad] and its first and second partial derivatives (m/rad, m/rad^2),
         each on the side of a seating the vertices found there take."""
         phi_i, phi_j = np.asarray(phi_i, dtype=float), np.asarray(phi_j, dtype=float)
-        ri, rj = self.radii
-        d, _ = self.layout
         k_i, k_j, a_i, a_j = self.seated(phi_i, phi_j)
-        ci, si, cj, sj = np.cos(a_i), np.sin(a_i), np.cos(a_j), np.sin(a_j)
+        return self._on_seats(np.cos(a_i), np.sin(a_i), np.cos(a_j), np.sin(a_j), k_i, k_j, np.hypot)
+
+    def _on_seats(self, ci, si, cj, sj, k_i, k_j, hypot) -> tuple:
+        """(e, e_i, e_j, e_ii, e_ij, e_jj) from the seated rollers' polar angles (their cosines and
+        sines) and indices: floats or arrays alike (``hypot`` of math or numpy)."""
+        ri, rj = self._radii
+        d = self._layout[0]
         ex, dy = rj * cj - ri * ci, rj * sj - ri * si
         dx = d + ex
-        ell = np.hypot(dx, dy)
+        ell = hypot(dx, dy)
         ux, uy = dx / ell, dy / ell
+        # ell - d without the cancellation of two lengths near d (a force's noise otherwise)
         e = (ex * (2 * d + ex) + dy * dy) / (ell + d) + self.pitch * (k_j - k_i) - self._rest
         # d(V)/d(phi) = J r (r = V - centre, J the quarter turn); d(d)/d(phi_i) = -J r_i, d/d(phi_j) = J r_j
         e_i = -ri * (uy * ci - ux * si)           # -u . J r_i,  J r = (-r_y, r_x)
         e_j = rj * (uy * cj - ux * sj)
-        u_ri = ri * (ux * ci + uy * si)
-        u_rj = rj * (ux * cj + uy * sj)
-        e_ii = (ri * ri - e_i * e_i) / ell + u_ri
-        e_jj = (rj * rj - e_j * e_j) / ell - u_rj
+        e_ii = (ri * ri - e_i * e_i) / ell + ri * (ux * ci + uy * si)
+        e_jj = (rj * rj - e_j * e_j) / ell - rj * (ux * cj + uy * sj)
         e_ij = (-(ri * rj) * (ci * cj + si * sj) - e_i * e_j) / ell
         return e, e_i, e_j, e_ii, e_ij, e_jj
 
@@ -262,24 +265,11 @@ class PolygonStrand(Element):
         """:meth:`elongation` at one pair of angles, in floats (the implicit solver's calls), with
         the rollers ``seats`` = (k_i, k_j) seated (None: those seated there, :meth:`seats_at`;
         given, the smooth branch of those two rollers, also past a seating)."""
-        ri, rj = self._radii
-        d, beta0 = self._layout
+        beta0 = self._layout[1]
         k_i, k_j = self.seats_at(phi_i, phi_j) if seats is None else seats
         a_i = beta0 + self.phase_i + phi_i + TWO_PI * k_i / self.z_i
         a_j = beta0 + self.phase_j + phi_j + TWO_PI * k_j / self.z_j
-        ci, si, cj, sj = math.cos(a_i), math.sin(a_i), math.cos(a_j), math.sin(a_j)
-        ex, dy = rj * cj - ri * ci, rj * sj - ri * si
-        dx = d + ex
-        ell = math.hypot(dx, dy)
-        ux, uy = dx / ell, dy / ell
-        # ell - d without the cancellation of two lengths near d (a force's noise otherwise)
-        e = (ex * (2 * d + ex) + dy * dy) / (ell + d) + self.pitch * (k_j - k_i) - self._rest
-        e_i = -ri * (uy * ci - ux * si)
-        e_j = rj * (uy * cj - ux * sj)
-        e_ii = (ri * ri - e_i * e_i) / ell + ri * (ux * ci + uy * si)
-        e_jj = (rj * rj - e_j * e_j) / ell - rj * (ux * cj + uy * sj)
-        e_ij = (-(ri * rj) * (ci * cj + si * sj) - e_i * e_j) / ell
-        return e, e_i, e_j, e_ii, e_ij, e_jj
+        return self._on_seats(math.cos(a_i), math.sin(a_i), math.cos(a_j), math.sin(a_j), k_i, k_j, math.hypot)
 
     # --- the smooth pieces between seatings and slack switches (the solvers stop at each) ----------
     pieces: ClassVar[bool] = True

@@ -105,6 +105,9 @@ NOT_RUN: dict[str, str] = {
     "simulate sewing --set roller_eccentricity=2mm":
         "a run of 30-55 s that tests/test_hard_cases_cli.py runs as written (with --json and --csv) against "
         "an independent Radau reference",
+    "simulate sewing --vary C4=normal(260N*m/rad,5%) --runs 5000 --seed 1 --scheduler tcp://SCHEDULER:8786":
+        "a cluster of the reader's own (tests/test_study_cli.py starts dask scheduler and dask worker on the "
+        "loopback and runs a study there)",
     "simulate roller-table --set polygon=on":
         "a run of about 2 minutes; tests/test_polygon.py runs the scene with the polygon action (one roller, a short "
         "start) against Radau with events, and benchmarks/chain_dynamics.py times the default",

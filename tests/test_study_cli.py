@@ -237,3 +237,53 @@ def test_an_existing_scheduler_from_the_option_or_the_environment(tmp_path, monk
             out = json.loads(ok(run(*args, *extra, "--csv", str(path), "--json", env=env)).stdout)
             assert out["execution"] == f"dask scheduler {cluster.scheduler_address}"
             assert path.read_text() == one.read_text()
+
+
+def test_a_study_on_a_scheduler_and_a_worker_started_as_their_own_processes(tmp_path):
+    """``dask scheduler`` and ``dask worker`` started as separate processes on the loopback (as on
+    a machine of their own, docs/studies.md), the study sent with --scheduler: the same rows as in
+    this process; both stopped after."""
+    import os
+    import shutil
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    pytest.importorskip("distributed")
+    dask = shutil.which("dask", path=os.path.dirname(sys.executable)) or shutil.which("dask")
+    if dask is None:
+        pytest.skip("the dask command is not installed")
+    info = tmp_path / "scheduler.json"
+    env = {**os.environ, "DASK_DISTRIBUTED__WORKER__DAEMON": "False"}
+    procs = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+                               "--scheduler-file", str(info)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                              env=env, start_new_session=True)]
+    try:
+        deadline = time.monotonic() + 60
+        while not info.exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        address = json.loads(info.read_text())["address"]
+        procs.append(subprocess.Popen([dask, "worker", address, "--nworkers", "1", "--nthreads", "1",
+                                       "--no-dashboard", "--host", "127.0.0.1"], stdout=subprocess.DEVNULL,
+                                      stderr=subprocess.DEVNULL, env=env, start_new_session=True))
+        from distributed import Client
+
+        with Client(address, timeout=30) as client:
+            client.wait_for_workers(1, timeout=60)
+        args = (*SEWING, *VARY, "--runs", "40", "--seed", "3")
+        here, there = tmp_path / "here.csv", tmp_path / "there.csv"
+        ok(run(*args, "--workers", "1", "--csv", str(here)))
+        out = json.loads(ok(run(*args, "--scheduler", address, "--csv", str(there), "--json")).stdout)
+        assert out["execution"] == f"dask scheduler {address}"
+        assert there.read_text() == here.read_text()
+    finally:
+        for p in reversed(procs):
+            os.killpg(p.pid, signal.SIGTERM)
+        for p in procs:
+            try:
+                p.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait(timeout=20)
+    assert all(p.poll() is not None for p in procs)

@@ -522,14 +522,10 @@ HEADER = "| supply | polygon |"
 
 
 def table_rows(text: str) -> list[str]:
-    lines = text.splitlines()
-    start = next(k for k, line in enumerate(lines) if line.startswith(HEADER))
-    rows = []
-    for line in lines[start + 2:]:
-        if not line.startswith("|"):
-            break
-        rows.append(line)
-    return rows
+    """The body rows of the roller table (:func:`test_readme_figures.markdown_rows`)."""
+    from test_readme_figures import markdown_rows
+
+    return markdown_rows(text, HEADER)
 
 
 def test_the_docs_roller_table_is_the_stored_one():

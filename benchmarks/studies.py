@@ -17,11 +17,22 @@ Run: python benchmarks/studies.py [--quick]
   study in one process, rows streamed to a CSV file, at 10^3, 10^4 and 10^5 runs; the time run
   at 10^3 and 10^4, the exact steady state (``--steady-state-only``, a cheaper run with the
   same streaming) at all three. Growth against 10^3.
-* **Workers**: the same study of ``--runs`` runs on a local Dask cluster of 1 and of 2 worker
-  processes, each the best of two runs taken in turn (:func:`beltcalc.sim.study.execution.execute`; start-up of the cluster included, and
-  without it: the time from the first chunk's arrival), and in this process.
-* **10^6 runs**: the per-run wall time of the batched path in one process, and of 2 workers,
-  times 10^6.
+* **Scaling** (issue 34): the two studies of the issue, each the ``beltcalc`` command a user
+  types, with ``--json`` (its ``execution_profile``), in this process and on a local Dask
+  cluster of every worker count asked (``--workers 1,2``: this machine's; ``1`` is this
+  process), each the best of ``--repeats`` runs taken in turn:
+
+  - sewing, the batched path: ``simulate sewing --vary 'C4=normal(260N*m/rad,5%)' --vary
+    'U12=normal(1.375,2%)' --runs 50000 --seed 1``;
+  - the conveyor drive file, one run at a time: ``simulate drive conveyor --vary
+    'upper.pretension=normal(400N,5%)' --runs 400 --seed 1``.
+
+  Per row: the command's wall time end to end, the cluster's start, the compute wall time
+  (first chunk sent to last chunk merged), the speed-up over this process with and without the
+  start, the client's CPU per run and as a share of the workers' CPU, the workers' busy
+  fraction, and whether the JSON's statistics equal those of this process bit for bit.
+* **10^6 runs**: the per-run wall time of the batched path in one process, and on the most
+  workers measured, times 10^6.
 
 BLAS single-threaded (OPENBLAS_NUM_THREADS=1, as the Dask workers run). The load average of the
 machine (shared with other jobs) is printed with the results. Writes
@@ -122,38 +133,61 @@ def max_rss(runs: int, steady: bool) -> tuple[int, float]:
     return int(done.stderr.splitlines()[-1]) * 1024, wall
 
 
-def workers(runs: int, repeats: int = 2) -> dict:
-    """Wall times of the study on 1 and 2 local Dask workers and in this process, each the best
-    of ``repeats`` runs taken in turn (the load of the shared machine moves between them)."""
-    from beltcalc.sim.study.execution import execute, on_dask
+SEWING = ["simulate", "sewing", "--vary", "C4=normal(260N*m/rad,5%)", "--vary", "U12=normal(1.375,2%)", "--seed", "1"]
+CONVEYOR = ["simulate", "drive", "conveyor", "--vary", "upper.pretension=normal(400N,5%)", "--seed", "1"]
 
-    out = {}
+
+def study(args: list[str], runs: int, workers: int) -> dict:
+    """One run of the command ``beltcalc ARGS --runs RUNS --workers W --json``: its wall time end
+    to end, its JSON's execution profile and statistics."""
+    import json
+
+    t0 = time.perf_counter()
+    done = subprocess.run([sys.executable, "-m", "beltcalc.cli.main", *args, "--runs", str(runs), "--workers",
+                           str(workers), "--json"], capture_output=True, text=True, check=True)
+    wall = time.perf_counter() - t0
+    out = json.loads(done.stdout)
+    prof = out["execution_profile"]
+    return {"wall": wall, "start": prof["cluster_start"]["value"], "compute": prof["compute_wall"]["value"],
+            "client_cpu": prof["client_cpu"]["value"], "worker_cpu": prof["worker_cpu"]["value"],
+            "busy": prof["worker_busy"]["value"], "chunks": prof["chunks"], "chunk": prof["runs_per_chunk"],
+            "how": out["execution"], "outputs": out["outputs"], "limits": out["limits"]}
+
+
+def scaling(label: str, args: list[str], runs: int, counts: list[int], repeats: int) -> dict:
+    """The study on each worker count (1: this process), each the best (by end-to-end wall) of
+    ``repeats`` runs taken in turn."""
+    best: dict[int, dict] = {}
     for _ in range(repeats):
-        for label, n in (("in this process", 1), ("dask, 1 worker", 1), ("dask, 2 workers", 2)):
-            p = plan(runs)
-            arrivals = []
-
-            def take(chunk, arrivals=arrivals):
-                arrivals.append(time.perf_counter())
-
-            t0 = time.perf_counter()
-            how = execute(p, take, workers=1) if label == "in this process" else on_dask(p, take, n, None)
-            wall = time.perf_counter() - t0
-            # throughput once running: the chunks after the first, over the time from its arrival to the last's
-            steady = (arrivals[-1] - arrivals[0]) / (p.n_runs - p.chunk) if len(arrivals) > 1 else wall / p.n_runs
-            print(f"{label}: {wall:.2f} s, {steady * 1e3:.3f} ms/run once running ({how})", flush=True)
-            best = out.get(label)
-            out[label] = (min(wall, best[0]) if best else wall, min(steady, best[1]) if best else steady, how)
-    return out
+        for w in counts:
+            r = study(args, runs, w)
+            print(f"{label}, {w} worker(s): {r['wall']:.2f} s end to end, compute {r['compute']:.2f} s, start "
+                  f"{r['start']:.2f} s, client CPU {r['client_cpu']:.2f} s of {r['worker_cpu']:.2f} s, busy "
+                  f"{r['busy']:.2f} ({r['how']}, {r['chunks']} chunks of {r['chunk']})", flush=True)
+            if w not in best or r["wall"] < best[w]["wall"]:
+                best[w] = r
+    return best
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer rounds and runs (a check of the script)")
-    ap.add_argument("--runs", type=int, default=4000, help="runs of the 1-against-2-workers study")
+    ap.add_argument("--sewing-runs", type=int, default=50_000, help="runs of the sewing study (batched)")
+    ap.add_argument("--conveyor-runs", type=int, default=400, help="runs of the conveyor study (one by one)")
+    ap.add_argument("--workers", default=",".join(str(w) for w in (1, 2, 4, 8, 16) if w <= (os.cpu_count() or 1)),
+                    help="worker counts, comma-separated (1: in this process) [default: 1, 2, 4, ... up to the CPUs]")
+    ap.add_argument("--repeats", type=int, default=2, help="runs of each study on each count (the best is kept)")
+    ap.add_argument("--only-scaling", action="store_true", help="the scaling tables only (e.g. on a larger machine)")
     args = ap.parse_args()
     load0 = os.getloadavg()
     t_start = time.perf_counter()
+    counts = [int(w) for w in args.workers.split(",")]
+    sewing_runs, conveyor_runs = (5_000, 60) if args.quick else (args.sewing_runs, args.conveyor_runs)
+    scale = {"sewing": (sewing_runs, scaling("sewing", SEWING, sewing_runs, counts, args.repeats)),
+             "conveyor": (conveyor_runs, scaling("conveyor", CONVEYOR, conveyor_runs, counts, args.repeats))}
+    if args.only_scaling:
+        print("\n".join(scaling_lines(scale)))
+        return
     rounds = 2 if args.quick else 5
     cost = per_run(rounds)
     sizes = (1_000, 3_000) if args.quick else (1_000, 10_000, 100_000)
@@ -165,20 +199,43 @@ def main() -> None:
             memory[(steady, runs)] = max_rss(runs, steady)
             print(f"memory {'steady' if steady else 'time run'} {runs}: {memory[(steady, runs)][0] / 2 ** 20:.1f} MiB "
                   f"in {memory[(steady, runs)][1]:.1f} s", flush=True)
-    wk = workers(1000 if args.quick else args.runs)
     load1 = os.getloadavg()
     total = time.perf_counter() - t_start
-    write(cost, memory, wk, sizes, load0, load1, total, 1000 if args.quick else args.runs)
+    write(cost, memory, scale, sizes, load0, load1, total)
 
 
-def write(cost, memory, wk, sizes, load0, load1, total, wruns) -> None:
+def scaling_lines(scale: dict) -> list[str]:
+    """The scaling tables (markdown), one per study."""
+    titles = {"sewing": "sewing, batched path (`beltcalc " + " ".join(SEWING[:2]) + " --vary 'C4=normal(260N*m/rad,5%)' "
+                        "--vary 'U12=normal(1.375,2%)' --runs {runs} --seed 1 --workers W --json`)",
+              "conveyor": "conveyor drive file, one run at a time (`beltcalc simulate drive conveyor --vary "
+                          "'upper.pretension=normal(400N,5%)' --runs {runs} --seed 1 --workers W --json`)"}
+    lines = []
+    for key, (runs, rows) in scale.items():
+        one = rows[min(rows)]
+        lines += [f"### {titles[key].format(runs=f'{runs:,}')}", "",
+                  "| workers | end to end [s] | cluster start [s] | compute [s] | speed-up, start included | "
+                  "speed-up, start excluded | chunks x runs | client CPU per run [ms] | client CPU / workers' CPU | "
+                  "workers busy | statistics as in this process |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+        for w, r in sorted(rows.items()):
+            same = r["outputs"] == one["outputs"] and r["limits"] == one["limits"]
+            share = "-" if w == 1 else f"{r['client_cpu'] / r['worker_cpu']:.2%}"
+            lines.append(f"| {w if w > 1 else '1 (this process)'} | {r['wall']:.2f} | {r['start']:.2f} | "
+                         f"{r['compute']:.2f} | {one['wall'] / r['wall']:.2f}x | {one['compute'] / r['compute']:.2f}x | "
+                         f"{r['chunks']} x {r['chunk']:,} | {r['client_cpu'] / runs * 1e3:.4f} | {share} | "
+                         f"{r['busy']:.0%} | {'bit for bit' if same else 'NO'} |")
+        lines.append("")
+    return lines
+
+
+def write(cost, memory, scale, sizes, load0, load1, total) -> None:
     med = lambda rows, k: float(np.median([r[k] for r in rows]))  # noqa: E731
     solver = float(np.median(cost["solver"]))
     solver_cpu = float(np.median(cost["solver_cpu"]))
     b_wall, b_cpu, b_ratio, b_cratio = (med(cost["batched"], k) for k in range(4))
     s_wall, s_cpu, s_ratio, s_cratio = (med(cost["single"], k) for k in range(4))
     lines = [
-        "# Studies at scale: per-run cost, memory, workers (issue 17, item 7)",
+        "# Studies at scale: per-run cost, memory, workers (issues 17 and 34)",
         "",
         f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; BLAS "
         f"single-threaded; `python benchmarks/studies.py` ({total:.0f} s). Load average (1, 5, 15 min) "
@@ -223,31 +280,32 @@ def write(cost, memory, wk, sizes, load0, load1, total, wruns) -> None:
             rss, wall = memory[(steady, runs)]
             lines.append(f"| {'steady state' if steady else 'time run'} | {runs:,} | {rss / 2 ** 20:.1f} | "
                          f"{(rss - base[0]) / 2 ** 20:+.1f} | {wall:.1f} |")
-    (w1, r1, _), (w2, r2, _), (local, rl, _) = (wk[k] for k in ("dask, 1 worker", "dask, 2 workers",
-                                                                 "in this process"))
-    per_run_2 = r2
+    runs, rows = scale["sewing"]
+    most = max(rows)
+    per_run_most = rows[most]["compute"] / runs
     lines += [
         "",
         "Target flat: the growth stays within a few MiB (a chunk's rows, the 10,000-row reservoir) whatever "
         "the number of runs.",
         "",
-        f"## 1 against 2 local Dask workers ({wruns:,} runs)",
+        f"## Scaling: this process against local Dask clusters of {', '.join(str(w) for w in sorted(rows) if w > 1)} "
+        "workers (issue 34)",
         "",
-        "| execution | wall, start-up included [s] | per run once running [ms] |",
-        "|---|---|---|",
-        f"| in this process | {local:.2f} | {rl * 1e3:.3f} |",
-        f"| dask local cluster, 1 worker | {w1:.2f} | {r1 * 1e3:.3f} |",
-        f"| dask local cluster, 2 workers | {w2:.2f} | {r2 * 1e3:.3f} |",
+        "Each study is the command a user types, timed end to end as a process (imports, the nominal run, the "
+        "cluster's start and stop included); the rest is its JSON's `execution_profile`: the cluster's start, the "
+        "compute wall time (first chunk sent to the last merged), this process's CPU meanwhile (handing chunks out, "
+        "Dask's scheduler, which a local cluster runs in this process, and merging each chunk's part of the fold), "
+        "and the workers' busy fraction (the chunks' wall time over workers x compute). \"Statistics as in this "
+        "process\": the JSON's `outputs` and `limits` equal those of `--workers 1`, bit for bit. Best of "
+        "the repeats by end-to-end wall time.",
         "",
-        f"Speed-up of 2 workers over 1: {r1 / r2:.2f}x once running, {w1 / w2:.2f}x with the start-up (target "
-        f">= 1.8x; {'met' if r1 / r2 >= 1.8 else 'not met on this shared machine: the load average above says how much of the second core was free'}).",
-        "",
+        *scaling_lines(scale),
         "## 10^6 runs, extrapolated",
         "",
         "| execution | per run [ms] | 10^6 runs |",
         "|---|---|---|",
         f"| batched, in this process | {b_wall * 1e3:.3f} | {b_wall * 1e6 / 60:.1f} min |",
-        f"| batched, 2 local workers | {per_run_2 * 1e3:.3f} | {per_run_2 * 1e6 / 60:.1f} min |",
+        f"| batched, {most} local workers | {per_run_most * 1e3:.3f} | {per_run_most * 1e6 / 60:.1f} min |",
         f"| one by one, in this process | {s_wall * 1e3:.3f} | {s_wall * 1e6 / 60:.1f} min |",
         "",
     ]

@@ -16,7 +16,8 @@ from beltcalc.sim.study.execution import execute
 from beltcalc.sim.study.plan import Distribution, Plan, parse_vary
 from beltcalc.sim.study.runs import RunRow, run_chunk
 from beltcalc.sim.study.sweeps import grid_scene
-from beltcalc.sim.study.tolerance import Accumulator, parse_limit, tolerance_study, wilson
+from beltcalc.sim.study.fold import Fold, FoldSpec, fold_rows, wilson
+from beltcalc.sim.study.tolerance import parse_limit, tolerance_study
 
 SEWING = SCENES["sewing"]
 CFG = SolverConfig()
@@ -96,7 +97,17 @@ def test_limits_name_a_column_and_need_its_unit():
 
 # --- the statistics, against numpy on every row -------------------------------------------------
 
-def test_accumulator_is_exact_against_every_row():
+def fold_in_chunks(spec, rows, priority, cuts):
+    """The summary of ``rows`` folded in chunks that end at ``cuts``."""
+    fold = Fold(spec)
+    lo = 0
+    for hi in [*cuts, len(rows)]:
+        fold.add(fold_rows(spec, lo, rows[lo:hi], priority[lo:hi]))
+        lo = hi
+    return fold.summary()
+
+
+def test_the_fold_is_exact_against_every_row_and_the_same_for_any_chunks():
     # y1 = 2 x1 - x2 + noise, y2 missing in some runs; chunks of uneven size; the reservoir holds
     # every row (runs < its size), so the percentiles are numpy's over all rows
     rng = np.random.default_rng(3)
@@ -104,11 +115,10 @@ def test_accumulator_is_exact_against_every_row():
     y1 = 2 * X[:, 0] - X[:, 1] + 0.1 * rng.normal(size=1000)
     y2 = X[:, 0] ** 3
     y2[::7] = np.nan
-    acc = Accumulator(["x1", "x2"], {"y1": None, "y2": None}, reservoir=5000)
-    for lo, hi in ((0, 1), (1, 250), (250, 600), (600, 1000)):
-        acc.add([RunRow(tuple(X[i]), {"y1": y1[i], "y2": None if np.isnan(y2[i]) else y2[i]})
-                 for i in range(lo, hi)])
-    s = acc.summary()
+    rows = [RunRow(tuple(X[i]), {"y1": y1[i], "y2": None if np.isnan(y2[i]) else y2[i]}) for i in range(1000)]
+    priority = rng.integers(0, 2 ** 63, 1000).astype(np.uint64)
+    spec = FoldSpec(("x1", "x2"), ("y1", "y2"), reservoir=5000)
+    s = fold_in_chunks(spec, rows, priority, (1, 250, 600))
     e = s.outputs["y1"]
     assert e["mean"] == pytest.approx(y1.mean(), rel=1e-12) and e["sd"] == pytest.approx(y1.std(ddof=1), rel=1e-10)
     assert (e["min"], e["max"]) == (y1.min(), y1.max())
@@ -124,20 +134,46 @@ def test_accumulator_is_exact_against_every_row():
 
     ok = ~np.isnan(y2)
     assert s.outputs["y2"]["n"] == ok.sum()
+    assert s.outputs["y2"]["mean"] == pytest.approx(y2[ok].mean(), rel=1e-12)
     rho = {i["input"]: i["spearman"] for i in s.outputs["y2"]["influence"]}
     assert rho["x1"] == pytest.approx(spearmanr(X[ok, 0], y2[ok])[0], rel=1e-12)
+    # the tree of the moments is fixed by the runs: any chunks (one, ones of one run, odd
+    # sizes, a power of two) give the same numbers, bit for bit
+    for cuts in ((), tuple(range(1, 1000)), (3, 10, 511, 512, 777), (256, 512, 768)):
+        assert fold_in_chunks(spec, rows, priority, cuts).outputs == s.outputs, cuts
 
 
-def test_the_reservoir_is_a_fixed_size_uniform_sample():
-    acc = Accumulator(["x"], {"y": None}, reservoir=500, seed=4)
-    for c in range(40):
-        acc.add([RunRow((float(i),), {"y": float(i)}) for i in range(c * 250, (c + 1) * 250)])
-    s = acc.summary()
+def test_the_reservoir_is_the_rows_of_the_smallest_priorities_whatever_the_chunks():
+    # bottom-k sampling: the kept rows are those of the 500 smallest priorities (numpy's sort of
+    # every priority is the reference), ordered by run, for any chunking
+    rng = np.random.default_rng(4)
+    rows = [RunRow((float(i),), {"y": float(i)}) for i in range(10_000)]
+    priority = rng.integers(0, 2 ** 64 - 1, 10_000, dtype=np.uint64)
+    spec = FoldSpec(("x",), ("y",), reservoir=500)
+    s = fold_in_chunks(spec, rows, priority, range(250, 10_000, 250))
     assert s.kept == 500 and s.runs == 10_000 and s.sample.shape == (500, 2)
-    kept = s.sample[:, 0]
-    assert len(set(kept)) == 500                                  # distinct rows
-    assert kept.mean() == pytest.approx(5000, rel=0.06)            # spread over the whole run order
+    want = np.sort(np.argsort(priority, kind="stable")[:500]).astype(float)
+    assert_equal = np.testing.assert_array_equal
+    assert_equal(s.sample[:, 0], want)
+    assert_equal(fold_in_chunks(spec, rows, priority, (1, 2, 3, 4999, 5000, 9998)).sample, s.sample)
+    assert s.sample[:, 0].mean() == pytest.approx(5000, rel=0.06)          # spread over the whole run order
     assert s.outputs["y"]["mean"] == pytest.approx(4999.5) and s.outputs["y"]["max"] == 9999.0   # exact, not sampled
+
+
+def test_counts_keep_the_first_texts_in_run_order_whatever_the_chunks():
+    from beltcalc.sim.study import fold as fold_module
+
+    rows = [RunRow((float(i),), {"y": float(i)}, warnings=(f"w{i % 70}", "always")) if i % 3 else
+            RunRow((float(i),), {}, error=f"J1: {-i} kg*m^2 must be > 0") for i in range(300)]
+    spec = FoldSpec(("x",), ("y",))
+    one = fold_in_chunks(spec, rows, np.arange(300, dtype=np.uint64), ())
+    many = fold_in_chunks(spec, rows, np.arange(300, dtype=np.uint64), (1, 2, 50, 51, 200))
+    assert one.warnings == many.warnings and one.more_warnings == many.more_warnings
+    assert len(one.warnings) == fold_module.MAX_DISTINCT and one.warnings["always"] == 200
+    first = list(dict.fromkeys(w for r in rows if r.error is None for w in r.warnings))[:fold_module.MAX_DISTINCT]
+    assert list(one.warnings) == first
+    assert one.more_warnings == 400 - sum(one.warnings.values())
+    assert one.reasons == many.reasons == [("J1: 0 kg*m^2 must be > 0", [100, 0])]
 
 
 # --- the issue's tests -----------------------------------------------------------------------------
@@ -176,7 +212,7 @@ def test_a_linear_output_matches_the_analytic_propagation_at_1e4_runs():
     p = Plan(SEWING, v, CFG, ("M3_0", "M5_0"), dists=(d3, d5), runs=10_000, seed=1, options=STEADY)
     cols = columns_of()
     summary, how = tolerance_study(p, cols, workers=1)
-    assert how == "in-process" and summary.runs == 10_000 and summary.errors == 0
+    assert how.how == "in-process" and summary.runs == 10_000 and summary.errors == 0
     w0 = 2 * math.pi * v["supply_frequency"] / v["pole_pairs"]
     slope = w0 * v["breakdown_slip"] / (2 * v["breakdown_factor"] * v["rated_torque"] * v["U12"] ** 2)
     e = summary.outputs["steady_main_speed_mean_rad_per_s"]
@@ -203,20 +239,52 @@ def test_impossible_draws_are_rows_with_their_reason_and_the_study_finishes():
     assert summary.outputs["steady_main_speed_mean_rad_per_s"]["n"] == 600 - len(bad)
 
 
-def test_rows_do_not_depend_on_the_chunking_of_the_workers():
-    # chunk c draws from SeedSequence(seed).spawn(...)[c]: the same rows run one chunk at a time
-    # in any order (what any number of workers does) as in one pass
+def test_each_run_draws_from_its_own_place_in_the_stream_whatever_the_chunks():
+    # run i reads Philox words 4 w i .. (w = 1 counter step for 2 inputs and a priority): the
+    # reference reads the whole stream from its start, with no advance, and inverts the
+    # distributions by hand (the normal's quantile from the error function's, in mpmath)
+    import mpmath
+
     p = plan(["C4=normal(260N*m/rad,5%)", "M3_0=uniform(0.09N*m,0.11N*m)"], runs=30, seed=5, chunk=8)
     one = rows_of(p)
-    backwards = [r for c in reversed(range(p.n_chunks)) for r in run_chunk(p, c).rows][::-1]
-    assert len(one) == 30
-    assert sorted(r.inputs for r in one) == sorted(r.inputs for r in backwards)
-    assert [r.inputs for r in run_chunk(p, 2).rows] == [r.inputs for r in one[16:24]]
-    child = np.random.SeedSequence(5).spawn(4)[2]
-    expect = np.random.default_rng(child).standard_normal(8) * 13.0 + 260.0
-    assert [r.inputs[0] for r in one[16:24]] == pytest.approx(expect, rel=1e-15)
+    words = np.random.Philox(np.random.SeedSequence(5)).random_raw(30 * 4).reshape(30, 4)
+    u = ((words[:, :2] >> np.uint64(11)).astype(float) + 0.5) / 2.0 ** 53
+    c4 = [260.0 + 13.0 * float(mpmath.sqrt(2) * mpmath.erfinv(2 * mpmath.mpf(x) - 1)) for x in u[:, 0]]
+    assert [r.inputs[0] for r in one] == pytest.approx(c4, rel=1e-14)
+    assert [r.inputs[1] for r in one] == pytest.approx(0.09 + 0.02 * u[:, 1], rel=1e-15)
+    assert np.array_equal(p.draws(0, 30)[1], words[:, 2])                   # the reservoir's priorities
+    # any chunks, in any order: the same rows
+    for chunk in (1, 7, 30):
+        q = Plan(**{**p.__dict__, "chunk": chunk})
+        backwards = [r for c in reversed(range(q.n_chunks)) for r in run_chunk(q, c).rows[::-1]][::-1]
+        assert [r.inputs for r in backwards] == [r.inputs for r in one]
     assert [r.inputs for r in rows_of(plan(["C4=normal(260N*m/rad,5%)", "M3_0=uniform(0.09N*m,0.11N*m)"],
                                            runs=30, seed=6, chunk=8))] != [r.inputs for r in one]
+
+
+def test_batched_rows_are_the_same_whatever_the_chunks():
+    # a batched row equals the single run's to rounding, and which rounding depends on the runs
+    # batched with it: they go in groups of 250 aligned on the run index, so chunks of 250, 500
+    # or 750 runs (as 4, 2 or 1 workers cut them) give the same rows, bit for bit (the time run)
+    p = plan(["C4=normal(260N*m/rad,5%)", "U12=normal(1.375,2%)"], runs=750, seed=2)
+    p = Plan(**{**p.__dict__, "options": {}})
+    rows = {size: rows_of(Plan(**{**p.__dict__, "chunk": size})) for size in (250, 750)}
+    assert [(r.inputs, r.values) for r in rows[250]] == [(r.inputs, r.values) for r in rows[750]]
+    assert sum(1 for r in rows[750] if r.values) == 750
+
+
+def test_chunks_are_sized_so_that_every_worker_gets_several():
+    from beltcalc.sim.study.plan import chunk_size
+
+    for runs, workers, cost in ((1600, 16, 0.109), (4000, 16, 0.109), (50_000, 16, 0.003), (50_000, 2, 0.003),
+                                (201, 16, 0.003), (4000, 2, 0.109)):
+        size = chunk_size(runs, workers, cost)
+        chunks = -(-runs // size)
+        assert chunks >= workers, (runs, workers)                   # every worker gets one
+        # four per worker, unless that makes chunks of under a second (then at least a second's,
+        # but never so few chunks that a worker gets none) or of over 1,000 runs
+        assert size <= 1000 and (chunks >= 4 * workers or size * cost >= 1.0 or size == 1000
+                                 or size == -(-runs // workers)), (runs, workers)
 
 
 def test_a_grid_is_the_product_of_its_sweeps_and_each_point_its_single_run():
@@ -236,7 +304,7 @@ def memory_peak(runs: int) -> float:
     import tracemalloc
 
     p = plan(["C4=normal(260N*m/rad,5%)", "M3_0=normal(0.1N*m,10%)", "J3=uniform(2.8e-4kg*m^2,3e-4kg*m^2)"],
-             runs=runs)
+             runs=runs, chunk=250)
     cols = columns_of()
     tracemalloc.start()
     tolerance_study(p, cols, workers=1)
@@ -246,7 +314,8 @@ def memory_peak(runs: int) -> float:
 
 
 #: Bound on the memory a tolerance study allocates (tracemalloc peak) whatever its number of runs:
-#: the reservoir (10,000 rows x 16 values = 1.3 MB), one chunk of rows, the sums.
+#: the reservoir (10,000 rows x 16 values = 1.3 MB), one chunk of rows, the sums (chunks of 250 runs
+#: at both sizes: a chunk's rows, at most 1,000 of them, are what the chunk size bounds).
 MEMORY_BOUND = 8 * 2 ** 20
 
 
@@ -293,16 +362,38 @@ def test_memory_stays_below_its_bound_at_3e4_runs():
 
 # --- Dask ----------------------------------------------------------------------------------------
 
-def test_a_local_dask_cluster_gives_the_rows_of_the_in_process_run():
+def test_a_local_dask_cluster_gives_the_rows_and_the_summary_of_the_in_process_run():
+    # one cluster for two studies (its start counted for the first only); on it 8 chunks of 30
+    # runs, in this process one chunk holds them all: the rows, the CSV lines the chunks format
+    # and every statistic are the same, bit for bit (beltcalc.sim.study.fold). One by one here
+    # (the batch's rows: test_batched_rows_are_the_same_whatever_the_chunks)
     pytest.importorskip("distributed")
-    p = plan(["C4=normal(260N*m/rad,5%)", "J1=normal(1.1e-5kg*m^2,150%)"], runs=240, seed=9, chunk=60)
+    from beltcalc.sim.study.execution import study_cluster
+
+    p = plan(["C4=normal(260N*m/rad,5%)", "J1=normal(1.1e-5kg*m^2,150%)"], runs=240, seed=9, batch=False)
     local = rows_of(p, workers=1)
-    notes = []
+    there_plan = Plan(**{**p.__dict__, "chunk": 30})
+    cols = columns_of()
+    amplitude = cols["steady_main_speed_amplitude_rad_per_s"].value          # the nominal run's: about half fail
+    limits = [parse_limit(f"steady_main_speed_amplitude_rad_per_s<={amplitude!r}rad/s", cols)]
+    csv_here, csv_there = [], []
+    here, how_here = tolerance_study(p, cols, limits, lambda ch: csv_here.append(ch.csv), workers=1, send=("csv",))
     rows = []
-    how = execute(p, lambda chunk: rows.extend(chunk.rows), workers=2, notes=notes)
-    assert how == "dask local cluster, 2 workers" and notes == []
+    with study_cluster(2) as cluster:
+        how = execute(there_plan, lambda chunk: rows.extend(chunk.rows), cluster=cluster)
+        there, how_there = tolerance_study(there_plan, cols, limits, lambda ch: csv_there.append(ch.csv), send=("csv",),
+                                           cluster=cluster)
+    assert how.how == how_there.how == "dask local cluster, 2 workers" and how.start > 0 and how_there.start == 0
+    assert how_here.chunks == 1 and how_there.chunks >= 8 and how_there.chunk_cpu > 0
     assert len(rows) == 240 and any(r.error for r in rows)
     assert [(r.inputs, r.values, r.error) for r in rows] == [(r.inputs, r.values, r.error) for r in local]
+    assert "".join(csv_there) == "".join(csv_here) and len("".join(csv_here).splitlines()) == 240
+    assert there.outputs == here.outputs and there.runs == here.runs == 240
+    assert [(lim["evaluated"], lim["failed"]) for lim in there.limits] == \
+        [(lim["evaluated"], lim["failed"]) for lim in here.limits]
+    assert 0 < here.limits[0]["failed"] < here.limits[0]["evaluated"] < 240
+    assert there.reasons == here.reasons and there.errors == here.errors > 0
+    assert np.array_equal(there.sample, here.sample, equal_nan=True)
 
 
 def test_without_dask_a_large_study_runs_in_process_with_a_note(monkeypatch):
@@ -311,7 +402,7 @@ def test_without_dask_a_large_study_runs_in_process_with_a_note(monkeypatch):
     monkeypatch.setattr(execution, "dask_available", lambda: False)
     p = plan(["C4=normal(260N*m/rad,5%)"], runs=201)
     notes = []
-    assert execute(p, lambda chunk: None, workers=2, notes=notes) == "in-process"
+    assert execute(p, lambda chunk: None, workers=2, notes=notes).how == "in-process"
     assert "dask is not installed" in notes[0] and 'pip install "beltcalc[dist]"' in notes[0]
     with pytest.raises(UsageError):
         execute(p, lambda chunk: None, scheduler="tcp://127.0.0.1:1")

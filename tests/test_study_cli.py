@@ -25,8 +25,12 @@ def test_a_tolerance_study_as_json_and_its_rows_as_csv(tmp_path):
     result = ok(run(*SEWING, *VARY, "--runs", "300", "--seed", "3", "--workers", "1", "--json", "--csv", str(path)))
     out = json.loads(result.stdout)
     assert out["study"] == "tolerance" and out["runs"] == 300 and out["seed"] == 3 and out["execution"] == "in-process"
-    # chunks of 250 and 50 runs: one check run each goes alone, the rest from batched exact propagation
-    assert out["propagation"].startswith("batched exact propagation for 298 of 300 runs")
+    # one check run per chunk goes alone, the rest from batched exact propagation
+    prof = out["execution_profile"]
+    assert prof["how"] == "in-process" and prof["workers"] == 1 and prof["chunks"] * prof["runs_per_chunk"] >= 300
+    assert out["propagation"].startswith(f"batched exact propagation for {300 - prof['chunks']} of 300 runs")
+    assert prof["compute_wall"]["unit"] == "s" and prof["compute_wall"]["value"] > 0
+    assert prof["client_cpu_per_run"]["value"] == pytest.approx(prof["client_cpu"]["value"] / 300)
     assert [p["name"] for p in out["parameters"]] == ["C4", "M3_0"]
     assert out["parameters"][0]["distribution"]["sd"] == {"value": pytest.approx(13.0), "unit": "N*m/rad"}
     assert out["inputs"]["C4"] == {"text": "normal(260N*m/rad,5%)", "value": 260.0, "unit": "N*m/rad", "origin": "vary"}
@@ -273,10 +277,11 @@ def test_a_study_on_a_scheduler_and_a_worker_started_as_their_own_processes(tmp_
             client.wait_for_workers(1, timeout=60)
         args = (*SEWING, *VARY, "--runs", "40", "--seed", "3")
         here, there = tmp_path / "here.csv", tmp_path / "there.csv"
-        ok(run(*args, "--workers", "1", "--csv", str(here)))
+        mine = json.loads(ok(run(*args, "--workers", "1", "--csv", str(here), "--json")).stdout)
         out = json.loads(ok(run(*args, "--scheduler", address, "--csv", str(there), "--json")).stdout)
-        assert out["execution"] == f"dask scheduler {address}"
+        assert out["execution"] == f"dask scheduler {address}" and out["execution_profile"]["workers"] == 1
         assert there.read_text() == here.read_text()
+        assert out["outputs"] == mine["outputs"] and out["limits"] == mine["limits"]
     finally:
         for p in reversed(procs):
             os.killpg(p.pid, signal.SIGTERM)

@@ -68,47 +68,51 @@ def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts,
                   parquet_path, plot_path, strict, workers, scheduler, to_option) -> None:
     """A tolerance study: the nominal run (its columns; an error there is the command's),
     then ``runs`` draws, rows streamed to the files, the summary rendered."""
+    import time
     from dataclasses import replace
 
     from beltcalc.cli.output import dumps, emit_warnings, progress, require_matplotlib, write_atomic, write_figure, wrote
     from beltcalc.errors import render
     from beltcalc.sim.scenes.base import run_scene
     from beltcalc.sim.study.plan import Plan
-    from beltcalc.sim.study.runs import row_cells
     from beltcalc.sim.study.tolerance import parse_limit, tolerance_study
 
     if plot_path is not None:
         require_matplotlib()
     names = tuple(n for n, _ in dists)
+    t0 = time.perf_counter()
     nominal = run_scene(spec, values, cfg, **options)
+    run_cost = time.perf_counter() - t0          # sizes the chunks (beltcalc.sim.study.plan.chunk_size)
     columns = {c.key: replace(c, value=None) for c in nominal.column_rows()}
     nominal_values = {c.key: c.value for c in nominal.column_rows()}
     limits = [parse_limit(text, columns) for text in limit_texts]
     plan = Plan(spec, dict(values), cfg, names, dists=tuple(d for _, d in dists), runs=runs, seed=seed,
-                options=dict(options))
+                options=dict(options), run_cost=run_cost)
     input_keys = [_key(n, d.unit) for n, d in dists]
     header = input_keys + list(columns) + ["failed_checks", "warnings", "error"]
     dask_note(runs, workers, scheduler)
     state: dict = {}
 
     def body(csv_tmp=None, pq_tmp=None):
-        sinks = []
+        sinks, send = [], []
         csv_fh = None
-        if csv_tmp is not None:
+        if csv_tmp is not None:           # the rows come as CSV lines, formatted where they ran
             import csv
 
             csv_fh = open(csv_tmp, "w", newline="", encoding="utf-8")
-            writer = csv.writer(csv_fh, lineterminator="\n")
-            writer.writerow(header)
-            sinks.append(lambda chunk: writer.writerows(row_cells(r, columns) for r in chunk.rows))
+            csv.writer(csv_fh, lineterminator="\n").writerow(header)
+            sinks.append(lambda chunk: csv_fh.write(chunk.csv))
+            send.append("csv")
         pq = None
         if pq_tmp is not None:
             pq = _ParquetSink(pq_tmp, input_keys, list(columns))
             sinks.append(pq.write)
+            send.append("table")
         try:
             with progress(runs, f"study of {', '.join(names)}", enabled=not as_json and runs > 1) as advance:
                 summary, how = tolerance_study(plan, columns, limits, (lambda ch: [f(ch) for f in sinks]) if sinks
-                                               else None, lambda n: [advance() for _ in range(n)], workers, scheduler)
+                                               else None, lambda n: [advance() for _ in range(n)], workers, scheduler,
+                                               send=send)
         finally:
             if csv_fh is not None:
                 csv_fh.close()
@@ -158,7 +162,7 @@ def run_tolerance(spec, title, values, resolved, dists, runs, seed, limit_texts,
             inputs[n] = {"text": d.text.partition("=")[2], "value": d.mean, "unit": d.unit, "origin": "vary"}
         click.echo(dumps(dict(obj, inputs=inputs)))
         return
-    _print(obj, summary, columns, dists)
+    _print(obj, summary, columns, dists, how.text())
 
 
 class _ParquetSink:
@@ -174,13 +178,10 @@ class _ParquetSink:
         self.writer = pq.ParquetWriter(str(path), self.schema)
 
     def write(self, chunk) -> None:
-        rows = chunk.rows
-        data = {k: [r.inputs[i] for r in rows] for i, k in enumerate(self.input_keys)}
-        data.update({k: [r.values.get(k) for r in rows] for k in self.keys})
-        data["failed_checks"] = [";".join(c.key for c in r.failed) for r in rows]
-        data["warnings"] = [len(r.warnings) for r in rows]
-        data["error"] = [r.error for r in rows]
-        self.writer.write_table(self.pa.table(data, schema=self.schema))
+        data = dict(chunk.table)
+        for i, k in enumerate(self.input_keys):
+            data[k] = data.pop(f"input_{i}")
+        self.writer.write_table(self.pa.table({k: data[k] for k in self.schema.names}, schema=self.schema))
 
     def close(self) -> None:
         self.writer.close()
@@ -224,7 +225,7 @@ def _q(value, unit):
 
 def _to_dict(title, spec, resolved, dists, input_keys, columns, nominal, summary, runs, seed, how, warnings) -> dict:
     """The study as one JSON-ready object (SI; values as ``{"value", "unit"}``)."""
-    from beltcalc.sim.study.tolerance import PERCENTILES, RESERVOIR
+    from beltcalc.sim.study.fold import PERCENTILES, RESERVOIR
 
     outputs = {}
     for key, col in columns.items():
@@ -242,7 +243,8 @@ def _to_dict(title, spec, resolved, dists, input_keys, columns, nominal, summary
                "fraction": _q(lim["fraction"], "1"),
                "ci95": [_q(lim["ci95"][0], "1"), _q(lim["ci95"][1], "1")]} for lim in summary.limits]
     return {
-        "scene": title, "study": "tolerance", "runs": summary.runs, "seed": seed, "execution": how,
+        "scene": title, "study": "tolerance", "runs": summary.runs, "seed": seed, "execution": how.how,
+        "execution_profile": how.to_dict(),
         "propagation": summary.propagation,
         "parameters": [{"name": n, "unit": d.unit, "key": k, "distribution": d.to_dict()}
                        for (n, d), k in zip(dists, input_keys)],
@@ -275,13 +277,13 @@ def _fmt(value, col) -> str:
     return format_number(v, 4)
 
 
-def _print(obj, summary, columns, dists) -> None:
+def _print(obj, summary, columns, dists, execution: str) -> None:
     from rich.markup import escape
     from rich.table import Table
 
     from beltcalc.cli.output import console, format_number
     from beltcalc.report import unit_label
-    from beltcalc.sim.study.tolerance import PERCENTILES
+    from beltcalc.sim.study.fold import PERCENTILES
 
     out = console(200)
     t = Table(title=f"tolerance study of {obj['scene']}: {summary.runs:,} runs, seed {obj['seed']} ({obj['execution']})",
@@ -319,7 +321,7 @@ def _print(obj, summary, columns, dists) -> None:
              f"failed runs: {summary.errors:,} of {summary.runs:,} (each a row with its reason; see the warnings)"
              if summary.errors else f"failed runs: none of {summary.runs:,}", obj["reservoir"]["note"],
              "src: standardised regression coefficient of a linear fit over every run; spearman: rank correlation",
-             "every row: --csv or --parquet; every statistic: --json"]
+             f"execution: {execution}", "every row: --csv or --parquet; every statistic: --json"]
     for note in notes:
         out.print(note, markup=False, highlight=False)
 

@@ -147,8 +147,12 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("CGL79", "Numerical methods",
            'T. F. Chan, G. H. Golub, R. J. LeVeque, "Updating formulae and a pairwise algorithm for computing '
            'sample variances", Stanford report STAN-CS-79-773 (1979)'),
-    Source("Vit85", "Numerical methods",
-           'J. S. Vitter, "Random sampling with a reservoir", ACM Trans. Math. Software 11 (1985) 37-57'),
+    Source("Coh97", "Numerical methods",
+           'E. Cohen, "Size-estimation framework with applications to transitive closure and reachability", '
+           'J. Comput. System Sci. 55 (1997) 441-453'),
+    Source("SMDS11", "Numerical methods",
+           'J. K. Salmon, M. A. Moraes, R. O. Dror, D. E. Shaw, "Parallel random numbers: as easy as 1, 2, 3", '
+           'Proc. SC11 (2011), article 16'),
     Source("Wil27", "Numerical methods",
            'E. B. Wilson, "Probable inference, the law of succession, and statistical inference", '
            'J. Amer. Statist. Assoc. 22 (1927) 209-212'),

@@ -6,13 +6,15 @@ imports it. One module per topic, each imported where it is used (this package i
 of them, so a command loads only what its study needs):
 
 - :mod:`~beltcalc.sim.study.plan`: what to run (:class:`~beltcalc.sim.study.plan.Plan`, the
-  distributions of ``--vary``, the seeding per chunk);
+  distributions of ``--vary``, each run's draws from its own place in one stream, the chunks'
+  size);
 - :mod:`~beltcalc.sim.study.runs`: one chunk of runs, one row each (batched exact
   propagation where the scene declares it, else the scene's single run);
 - :mod:`~beltcalc.sim.study.execution`: every chunk, in this process or on Dask
   (:mod:`~beltcalc.sim.study.cluster`);
-- :mod:`~beltcalc.sim.study.tolerance`: a tolerance study's limits and its fold of the rows
-  in constant memory;
+- :mod:`~beltcalc.sim.study.fold`: a tolerance study's runs folded where they run, merged in
+  constant memory into the same summary whatever the chunks;
+- :mod:`~beltcalc.sim.study.tolerance`: a tolerance study's limits, the study itself;
 - :mod:`~beltcalc.sim.study.sweeps`: grids of a scene, their rows in a
   :class:`~beltcalc.sim.study.sweeps.Sweep`;
 - :mod:`~beltcalc.sim.study.workprecision`: every method against the exact solution.

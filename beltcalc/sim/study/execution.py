@@ -1,14 +1,17 @@
 """How a study runs: every chunk of a :class:`~beltcalc.sim.study.plan.Plan`
 (:func:`~beltcalc.sim.study.runs.run_chunk`) in this process or on Dask (a local cluster of
-processes, or an existing scheduler: :mod:`beltcalc.sim.study.cluster`), each task retried on
-failure, the chunks handed on in chunk order (:func:`execute`); a grid's rows kept in memory
-(:func:`grid_rows`).
+processes, or an existing scheduler: :mod:`beltcalc.sim.study.cluster`; one cluster for
+several studies: :func:`study_cluster`), each task retried on failure, the chunks handed on in
+chunk order (:func:`execute`) with how long each part took (:class:`Execution`); a grid's rows
+kept in memory (:func:`grid_rows`).
 """
 
 from __future__ import annotations
 
 import re
-from typing import Callable
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Callable, Iterator
 
 from beltcalc.errors import UsageError
 from beltcalc.sim.study.plan import Plan
@@ -24,25 +27,81 @@ def dask_available() -> bool:
     return importlib.util.find_spec("distributed") is not None and importlib.util.find_spec("dask") is not None
 
 
+@dataclass
+class Execution:
+    """How a study ran: ``how`` in words, on how many ``workers``, in how many ``chunks`` of
+    ``chunk`` runs; the seconds it took to start the local cluster or reach the scheduler
+    (``start``, 0 in this process), to compute every chunk (``compute``: from the first chunk
+    sent to the last one handed on), this process's CPU meanwhile (``client_cpu``: handing
+    chunks out, merging what comes back, writing the rows; in this process, the runs too), and
+    the chunks' own wall and CPU time where they ran (``chunk_wall``, ``chunk_cpu``)."""
+
+    how: str
+    workers: int = 1
+    chunks: int = 0
+    chunk: int = 0
+    runs: int = 0
+    start: float = 0.0
+    compute: float = 0.0
+    client_cpu: float = 0.0
+    chunk_wall: float = 0.0
+    chunk_cpu: float = 0.0
+
+    @property
+    def busy(self) -> float | None:
+        """The workers' busy fraction: the chunks' wall time over ``workers`` x ``compute``."""
+        return self.chunk_wall / (self.workers * self.compute) if self.compute > 0 else None
+
+    def to_dict(self) -> dict:
+        """JSON-ready, SI (``{"value", "unit"}``)."""
+        q = lambda v, u: {"value": v, "unit": u}  # noqa: E731
+        remote = self.how != "in-process"
+        return {"how": self.how, "workers": self.workers, "chunks": self.chunks, "runs_per_chunk": self.chunk,
+                "cluster_start": q(self.start, "s"), "compute_wall": q(self.compute, "s"),
+                "client_cpu": q(self.client_cpu, "s"),
+                "client_cpu_per_run": q(self.client_cpu / self.runs if self.runs else None, "s"),
+                "worker_cpu": q(self.chunk_cpu, "s"),
+                "client_cpu_share": q(self.client_cpu / self.chunk_cpu if remote and self.chunk_cpu > 0 else None,
+                                      "1"),
+                "worker_busy": q(self.busy, "1")}
+
+    def text(self) -> str:
+        """One line for the report.
+
+        >>> print(Execution("dask local cluster, 2 workers", 2, 50, 1000, 50_000, 0.8, 24.0, 0.3, 47.5, 47.0).text())
+        2 workers, 50 chunks of up to 1,000 runs: cluster start 0.8 s, compute 24 s, workers busy 99%; this process 0.3 s of CPU (0.64% of the workers')
+        """
+        who = f"{self.workers} worker{'' if self.workers == 1 else 's'}" if self.how != "in-process" else "in this process"
+        line = f"{who}, {self.chunks:,} chunk{'' if self.chunks == 1 else 's'} of up to {self.chunk:,} runs: "
+        if self.how == "in-process":
+            return line + f"compute {self.compute:.3g} s"
+        busy = "" if self.busy is None else f", workers busy {self.busy:.0%}"
+        share = f" ({self.client_cpu / self.chunk_cpu:.2%} of the workers')" if self.chunk_cpu > 0 else ""
+        return (line + f"cluster start {self.start:.2g} s, compute {self.compute:.3g} s{busy}; this process "
+                f"{self.client_cpu:.2g} s of CPU{share}")
+
+
 def execute(plan: Plan, on_chunk: Callable[[Chunk], None], workers: int | None = None,
             scheduler: str | None = None, notes: list[str] | None = None,
-            progress: Callable[[int], None] | None = None) -> str:
-    """Run every chunk of ``plan`` and hand each to ``on_chunk`` in chunk order.
+            progress: Callable[[int], None] | None = None, cluster=None) -> Execution:
+    """Run every chunk of ``plan`` and hand each to ``on_chunk`` in chunk order; the chunks
+    are sized for the workers that run them (:meth:`~beltcalc.sim.study.plan.Plan.sized`)
+    unless the plan fixes them.
 
-    ``scheduler`` (``tcp://HOST:PORT``): an existing Dask cluster. Else ``workers`` processes
-    of a local Dask cluster (default: the CPU count) when dask is installed, the study has
-    more than :data:`DASK_MIN_RUNS` runs and ``workers`` > 1; otherwise in this process.
-    Returns how it ran (``"in-process"``, ``"dask local cluster, N workers"``,
-    ``"dask scheduler ADDRESS"``); ``notes`` receives why it did not use Dask when asked;
-    ``progress(n)`` is called as runs finish (after each run in this process, after each
-    chunk on Dask).
+    ``cluster``: a cluster already started (:func:`study_cluster`: studies in a row pay its
+    start once). Else ``scheduler`` (``tcp://HOST:PORT``): an existing Dask cluster. Else
+    ``workers`` processes of a local Dask cluster (default: the CPU count) when dask is
+    installed, the study has more than :data:`DASK_MIN_RUNS` runs and ``workers`` > 1;
+    otherwise in this process. Returns how it ran (:class:`Execution`: ``how`` is
+    ``"in-process"``, ``"dask local cluster, N workers"`` or ``"dask scheduler ADDRESS"``);
+    ``notes`` receives why it did not use Dask when asked; ``progress(n)`` is called as runs
+    finish (after each run in this process, after each chunk on Dask).
     """
     import os
 
-    from beltcalc.units import quote
-
-    if scheduler is not None and not re.fullmatch(r"(tcp|tls|ucx|ws|wss|inproc)://[^\s]{1,200}", scheduler):
-        raise UsageError(f"{quote(scheduler)}: give the scheduler's address, e.g. tcp://HOST:8786", param="scheduler")
+    if cluster is not None:
+        return _run_on(cluster, plan, on_chunk, progress)
+    check_scheduler(scheduler)
     workers = workers or os.cpu_count() or 1
     if scheduler is None and (workers <= 1 or plan.n_runs <= DASK_MIN_RUNS):
         return _in_process(plan, on_chunk, progress)
@@ -53,13 +112,30 @@ def execute(plan: Plan, on_chunk: Callable[[Chunk], None], workers: int | None =
             notes.append(f'dask is not installed: the {plan.n_runs} runs go in this process, one at a time '
                          '(pip install "beltcalc[dist]" for a local cluster of processes)')
         return _in_process(plan, on_chunk, progress)
-    return on_dask(plan, on_chunk, workers, scheduler, progress)
+    with study_cluster(workers, scheduler) as started:
+        return _run_on(started, plan, on_chunk, progress)
 
 
-def _in_process(plan: Plan, on_chunk, progress=None) -> str:
+def check_scheduler(scheduler: str | None) -> None:
+    """A scheduler's address, or a :class:`~beltcalc.errors.UsageError` naming it."""
+    from beltcalc.units import quote
+
+    if scheduler is not None and not re.fullmatch(r"(tcp|tls|ucx|ws|wss|inproc)://[^\s]{1,200}", scheduler):
+        raise UsageError(f"{quote(scheduler)}: give the scheduler's address, e.g. tcp://HOST:8786", param="scheduler")
+
+
+def _in_process(plan: Plan, on_chunk, progress=None) -> Execution:
+    import time
+
+    plan = plan.sized(1)
+    w0, c0 = time.perf_counter(), time.process_time()
+    wall = cpu = 0.0
     for c in range(plan.n_chunks):
-        on_chunk(run_chunk(plan, c, progress))
-    return "in-process"
+        chunk = run_chunk(plan, c, progress)
+        wall, cpu = wall + chunk.wall, cpu + chunk.cpu
+        on_chunk(chunk)
+    return Execution("in-process", 1, plan.n_chunks, plan.chunk, plan.n_runs, 0.0, time.perf_counter() - w0,
+                     time.process_time() - c0, wall, cpu)
 
 
 # dask's workers start with MALLOC_TRIM_THRESHOLD_=65536, which also fixes glibc's mmap
@@ -70,34 +146,61 @@ def _in_process(plan: Plan, on_chunk, progress=None) -> str:
 WORKER_MALLOC = {"MALLOC_MMAP_THRESHOLD_": str(32 * 2 ** 20), "MALLOC_TRIM_THRESHOLD_": str(128 * 2 ** 20)}
 
 
-def on_dask(plan: Plan, on_chunk, workers: int, scheduler: str | None, progress=None, retries: int = 2) -> str:
-    """The chunks on an existing scheduler, or on a local cluster of ``workers`` processes;
-    Dask's own log lines kept off stderr meanwhile (:mod:`beltcalc.sim.study.cluster`)."""
+@dataclass
+class StartedCluster:
+    """A Dask client ready for studies (:func:`study_cluster`): ``how`` it runs them, on how
+    many ``workers``, and the seconds its start took."""
+
+    client: object
+    how: str
+    workers: int
+    start: float
+    used: bool = False
+
+
+@contextmanager
+def study_cluster(workers: int | None = None, scheduler: str | None = None) -> Iterator[StartedCluster]:
+    """A Dask cluster for one or more studies (:func:`execute`'s ``cluster``): a client of the
+    scheduler at ``scheduler``, or a new local cluster of ``workers`` processes (default: the
+    CPU count), closed after the block; Dask's own log lines kept off stderr meanwhile
+    (:mod:`beltcalc.sim.study.cluster`)."""
+    import os
+    import time
+
     from beltcalc.sim.study.cluster import local_cluster, quiet_logs, scheduler_client
 
+    check_scheduler(scheduler)
+    t0 = time.perf_counter()
     with quiet_logs():
         if scheduler is not None:
             with scheduler_client(scheduler) as client:
-                _run_on(client, plan, on_chunk, 1, progress, retries)
-            return f"dask scheduler {scheduler}"
+                n = sum(client.nthreads().values()) or 1
+                yield StartedCluster(client, f"dask scheduler {scheduler}", n, time.perf_counter() - t0)
+            return
+        workers = workers or os.cpu_count() or 1
         with local_cluster(workers, WORKER_MALLOC) as client:
-            _run_on(client, plan, on_chunk, workers, progress, retries)
-        return f"dask local cluster, {workers} worker{'' if workers == 1 else 's'}"
+            yield StartedCluster(client, f"dask local cluster, {workers} worker{'' if workers == 1 else 's'}", workers,
+                                 time.perf_counter() - t0)
 
 
-def _run_on(client, plan: Plan, on_chunk, workers: int, progress, retries: int) -> None:
-    """Every chunk of ``plan`` as a task of ``client``, at most about two per worker in
+def _run_on(cluster: StartedCluster, plan: Plan, on_chunk, progress, retries: int = 2) -> Execution:
+    """Every chunk of ``plan`` as a task of ``cluster``, at most about two per worker in
     flight, handed to ``on_chunk`` in chunk order; a task that fails after its retries is
-    its chunk's rows with the reason."""
+    its chunk's rows with the reason. The cluster's start counts for its first study only."""
+    import time
     import uuid
 
     from distributed import as_completed
 
+    client = cluster.client
+    plan = plan.sized(cluster.workers)
+    w0, c0 = time.perf_counter(), time.process_time()
     shared = client.scatter(plan, broadcast=True)
     n = plan.n_chunks
-    cap = 2 * max(len(client.scheduler_info().get("workers", {})), workers) + 2
+    cap = 2 * cluster.workers + 2
     token = uuid.uuid4().hex
     nxt, done, pending, which = 0, 0, {}, {}
+    wall = cpu = 0.0
     ac = as_completed()
     while done < n:
         while nxt < n and (nxt - done) < cap:
@@ -113,11 +216,15 @@ def _run_on(client, plan: Plan, on_chunk, workers: int, progress, retries: int) 
         except Exception as exc:              # the task failed after its retries: rows with the reason
             pending[c] = failed_chunk(plan, c, f"{type(exc).__name__}: {exc}")
         fut.release()
+        wall, cpu = wall + pending[c].wall, cpu + pending[c].cpu
         if progress is not None:
-            progress(len(pending[c].rows))
+            progress(pending[c].runs)
         while done in pending:
             on_chunk(pending.pop(done))
             done += 1
+    start, cluster.used = (0.0 if cluster.used else cluster.start), True
+    return Execution(cluster.how, cluster.workers, n, plan.chunk, plan.n_runs, start, time.perf_counter() - w0,
+                     time.process_time() - c0, wall, cpu)
 
 
 def grid_rows(plan: Plan, progress: Callable[[int], None] | None = None, workers: int | None = None,
@@ -132,4 +239,4 @@ def grid_rows(plan: Plan, progress: Callable[[int], None] | None = None, workers
             columns.setdefault(k, col)
 
     how = execute(plan, take, workers, scheduler, notes, progress)
-    return rows, columns, how
+    return rows, columns, how.how

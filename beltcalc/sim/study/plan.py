@@ -1,11 +1,20 @@
 """What a study runs: the runs of one scene with some of its values replaced, by the points
 of a grid or by values drawn from distributions (:class:`Distribution`, read by
-:func:`parse_vary`), in chunks (:class:`Plan`).
+:func:`parse_vary`), in chunks (:class:`Plan`) sized to the work and the workers
+(:func:`chunk_size`).
 
-The values of chunk ``c`` are drawn from ``numpy.random.SeedSequence(seed, spawn_key=(c,))``
-(the ``c``-th child of ``SeedSequence(seed).spawn``), so the rows do not depend on how many
-workers run them. SI floats; no click, no pint (texts are read through
-:mod:`beltcalc.params` and :mod:`beltcalc.units`).
+Every run draws its own values (:meth:`Plan.draws`): run ``i`` reads the words of the
+counter-based generator Philox-4x64 [SMDS11] (key from ``numpy.random.SeedSequence(seed)``)
+at counter ``i * w`` onwards (``w`` counter steps of 4 words each, one word per varied input
+and one for the run's reservoir priority), and turns each into a value by the inverse of its
+distribution function. A run's values therefore depend on the seed and its index only: the same
+rows whatever the chunks and however many workers run them. SI floats; no click, no pint
+(texts are read through :mod:`beltcalc.params` and :mod:`beltcalc.units`).
+
+References:
+
+[SMDS11] J. K. Salmon, M. A. Moraes, R. O. Dror, D. E. Shaw, "Parallel random numbers: as easy
+    as 1, 2, 3", Proc. SC11 (2011), article 16.
 """
 
 from __future__ import annotations
@@ -20,8 +29,12 @@ import numpy as np
 from beltcalc.errors import UsageError
 from beltcalc.params import Param, bare_number
 
-CHUNK = 250              # runs per task
 MAX_GRID = 1_000_000     # points of a grid (its rows are kept for the table)
+TASKS_PER_WORKER = 4     # chunks per worker: the last ones to finish leave the others idle for at most 1/4 of a share
+MIN_TASK_S = 1.0         # a chunk of less work than this costs more in dispatch and its check run than it balances
+MAX_TASK_S = 30.0        # ... and of more than this answers the progress bar too seldom
+MAX_CHUNK = 1000         # runs per chunk: what a chunk holds and sends back (its rows, its reservoir) stays small
+BATCH_GROUP = 250        # runs batched together (beltcalc.sim.study.runs.run_chunk): a chunk of a scene that batches holds whole groups
 
 
 # --- distributions ------------------------------------------------------------------------------
@@ -57,16 +70,27 @@ class Distribution:
         return math.sqrt((lo * lo + mode * mode + hi * hi - lo * mode - lo * hi - mode * hi) / 18)
 
     def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
-        """``n`` values drawn with ``rng`` (a spread of 0 gives the value itself, exactly)."""
+        """``n`` values drawn with ``rng`` (:meth:`quantile` of uniform draws)."""
+        return self.quantile((rng.integers(0, 2 ** 53, n) + 0.5) * 2.0 ** -53)
+
+    def quantile(self, u: np.ndarray) -> np.ndarray:
+        """The inverse of the distribution function at ``u`` in (0, 1): the values whose
+        probabilities are ``u`` (a spread of 0 gives the value itself, exactly).
+
+        >>> Distribution("normal", (10.0, 2.0)).quantile(np.array([0.5, 0.8413447460685429]))
+        array([10., 12.])
+        """
         a = self.args
+        u = np.asarray(u, dtype=float)
         if self.kind == "normal":
-            return a[0] + a[1] * rng.standard_normal(n)
-        u = rng.random(n)
+            from scipy.special import ndtri
+
+            return a[0] + a[1] * ndtri(u)
         if self.kind == "uniform":
             return a[0] + (a[1] - a[0]) * u
         lo, mode, hi = a                         # inverse CDF of the triangular distribution
         if hi == lo:
-            return np.full(n, lo)
+            return np.full(u.shape, lo)
         f = (mode - lo) / (hi - lo)
         return np.where(u < f, lo + np.sqrt(u * (hi - lo) * (mode - lo)),
                         hi - np.sqrt((1 - u) * (hi - lo) * (hi - mode)))
@@ -160,9 +184,11 @@ class Plan:
     dists: tuple[Distribution, ...] | None = None
     runs: int = 0
     seed: int = 0
-    chunk: int = CHUNK
+    chunk: int = 0                 # runs per chunk; 0: sized where it runs (chunk_size)
     options: Mapping[str, object] = field(default_factory=dict)
     batch: bool = True             # batched exact propagation where the scene declares it (Scene.batch)
+    fold: object = None            # a tolerance study's fold (beltcalc.sim.study.fold.FoldSpec): done by the chunk
+    run_cost: float | None = None  # seconds of one single run, measured (chunk_size)
 
     @property
     def n_runs(self) -> int:
@@ -172,13 +198,72 @@ class Plan:
     def n_chunks(self) -> int:
         return -(-self.n_runs // self.chunk)
 
+    def bounds(self, c: int) -> tuple[int, int]:
+        """The runs of chunk ``c``: ``range(*plan.bounds(c))``."""
+        return c * self.chunk, min((c + 1) * self.chunk, self.n_runs)
+
     def inputs(self, c: int) -> np.ndarray:
         """The input values of chunk ``c``: one row per run, one column per name."""
-        lo, hi = c * self.chunk, min((c + 1) * self.chunk, self.n_runs)
+        return self.draws(*self.bounds(c))[0]
+
+    def draws(self, lo: int, hi: int) -> tuple[np.ndarray, np.ndarray]:
+        """The input values of runs ``lo .. hi - 1`` (one row per run, one column per name) and
+        each run's reservoir priority (uint64: :mod:`beltcalc.sim.study.fold`); a grid's runs are
+        its points in row-major order, their priorities 0.
+
+        A drawn run ``i`` reads Philox words ``4 w i`` onwards (module docstring): its values do
+        not depend on which runs are drawn with it.
+
+        >>> d = Distribution("uniform", (0.0, 1.0))
+        >>> p = Plan(None, {}, None, ("x",), dists=(d,), runs=10, seed=3)
+        >>> bool(np.all(p.draws(0, 10)[0][4:7] == p.draws(4, 7)[0]))
+        True
+        """
+        n = hi - lo
         if self.grid is not None:
             idx = np.unravel_index(np.arange(lo, hi), [len(g) for g in self.grid])
-            return np.column_stack([np.asarray(g, float)[i] for g, i in zip(self.grid, idx)]) \
-                if self.grid else np.zeros((hi - lo, 0))
-        rng = np.random.default_rng(np.random.SeedSequence(self.seed, spawn_key=(c,)))
-        return np.column_stack([d.sample(rng, hi - lo) for d in self.dists]) if self.dists \
-            else np.zeros((hi - lo, 0))
+            X = np.column_stack([np.asarray(g, float)[i] for g, i in zip(self.grid, idx)]) \
+                if self.grid else np.zeros((n, 0))
+            return X, np.zeros(n, dtype=np.uint64)
+        k = len(self.dists or ())
+        width = -(-(k + 1) // 4)                 # Philox counter steps per run, 4 words each
+        gen = np.random.Philox(np.random.SeedSequence(self.seed))
+        gen.advance(lo * width)
+        words = gen.random_raw(n * width * 4).reshape(n, width * 4)
+        u = ((words[:, :k] >> np.uint64(11)).astype(float) + 0.5) * 2.0 ** -53     # in (0, 1), 53 bits
+        X = np.column_stack([d.quantile(u[:, j]) for j, d in enumerate(self.dists)]) if k else np.zeros((n, 0))
+        return X, words[:, k].copy()
+
+    def sized(self, workers: int) -> "Plan":
+        """This plan in chunks of :func:`chunk_size` for ``workers`` (as it is where its size is set)."""
+        from dataclasses import replace
+
+        if self.chunk:
+            return self
+        unit = BATCH_GROUP if self.batch and getattr(self.scene, "batched", None) is not None else 1
+        return replace(self, chunk=chunk_size(self.n_runs, workers, self.run_cost, unit))
+
+
+def chunk_size(runs: int, workers: int, run_cost: float | None = None, unit: int = 1) -> int:
+    """Runs per chunk for ``runs`` runs on ``workers`` workers, one run costing ``run_cost``
+    seconds (None: unknown; the nominal run's time, which its first-call costs inflate, is an
+    upper bound): :data:`TASKS_PER_WORKER` chunks per worker, each of :data:`MIN_TASK_S` to
+    :data:`MAX_TASK_S` of work and at most :data:`MAX_CHUNK` runs, but never so large that a
+    worker gets none; a multiple of ``unit`` runs (the batch's groups: :data:`BATCH_GROUP`).
+    In this process (one worker) a chunk is as large as allowed: there the chunks balance
+    nothing.
+
+    >>> chunk_size(1600, 16, 0.109), chunk_size(50_000, 16, 0.003), chunk_size(201, 16, 0.003)
+    (25, 782, 13)
+    >>> chunk_size(50_000, 1, 0.003), chunk_size(7, 1), chunk_size(4000, 2, 0.109)
+    (1000, 7, 275)
+    >>> chunk_size(50_000, 16, 0.003, 250), chunk_size(50_000, 2, 0.003, 250), chunk_size(1600, 16, 0.003, 250)
+    (750, 1000, 250)
+    """
+    workers = max(1, int(workers))
+    size = -(-runs // (TASKS_PER_WORKER * workers)) if workers > 1 else runs
+    if run_cost is not None and run_cost > 0:
+        size = max(size, math.ceil(MIN_TASK_S / run_cost))
+        size = min(size, max(1, int(MAX_TASK_S / run_cost)))
+    size = min(size, MAX_CHUNK, -(-runs // workers))
+    return max(unit, size // unit * unit)

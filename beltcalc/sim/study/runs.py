@@ -4,8 +4,10 @@ value drawn, e.g. a negative mass). A failing run is a row, never a stopped stud
 
 A chunk (:func:`run_chunk`, the task a Dask worker runs) takes its rows from batched exact
 propagation where the scene declares a batch row (:attr:`beltcalc.sim.scenes.base.Scene.batch`,
-over :mod:`beltcalc.sim.batch`), checked against one single run per chunk to
-:data:`VERIFY_RTOL`; every other run is the scene's single run (:func:`run_one`).
+over :mod:`beltcalc.sim.batch`), checked against one single run per group of runs to
+:data:`VERIFY_RTOL`; every other run is the scene's single run (:func:`run_one`). A tolerance
+study's chunk folds its rows where it runs (:func:`beltcalc.sim.study.fold.fold_rows`) and sends
+back that part, with its rows only as the study asks for them (CSV text, columns).
 """
 
 from __future__ import annotations
@@ -37,14 +39,24 @@ class RunRow:
 
 @dataclass
 class Chunk:
-    """The rows of chunk ``index`` and the columns they report (key -> Column, no values);
-    ``batched``: how many of the rows came from batched exact propagation
-    (:func:`batch_rows`), the others from the scene's single run."""
+    """What chunk ``index`` sends back: its rows (all of them, or none where the plan folds
+    them and did not ask for them), the columns they report (key -> Column, no values),
+    ``batched``: how many of its ``runs`` came from batched exact propagation
+    (:func:`batch_rows`), the others from the scene's single run; where the plan folds
+    (``Plan.fold``): its ``part`` (:class:`~beltcalc.sim.study.fold.Part`), the rows as CSV
+    lines (``csv``) or columns (``table``) as asked; ``wall`` and ``cpu``: the seconds it took
+    where it ran."""
 
     index: int
     rows: list[RunRow]
     columns: dict
     batched: int = 0
+    runs: int = 0
+    part: object = None
+    csv: str | None = None
+    table: dict | None = None
+    wall: float = 0.0
+    cpu: float = 0.0
 
 
 def run_one(plan: Plan, x: Sequence[float]) -> tuple[RunRow, list]:
@@ -115,17 +127,43 @@ def _batch(plan: Plan, X: np.ndarray) -> list:
 
 
 def run_chunk(plan: Plan, c: int, tick: Callable[[int], None] | None = None) -> Chunk:
-    """Chunk ``c`` of ``plan``: one row per run (the task a Dask worker runs); ``tick(n)``
-    as runs finish.
+    """Chunk ``c`` of ``plan`` (the task a Dask worker runs): one row per run, folded where
+    the plan folds (:func:`finish`); ``tick(n)`` as runs finish.
 
-    The runs the scene's batch vouches for (:func:`batch_rows`) come from batched exact
-    propagation; the first of them also runs alone, and unless the batch reproduces its row
-    (:func:`agrees`) the whole chunk runs one by one. Every other run is the scene's single
-    run."""
-    X = plan.inputs(c)
+    Where the scene batches, the runs go to its batch in groups of
+    :data:`~beltcalc.sim.study.plan.BATCH_GROUP` aligned on the run index (a batched row is
+    equal to the single run's to rounding, and which rounding depends on the runs batched with
+    it: fixed groups keep every row the same whatever the chunks). In each group the runs the
+    batch vouches for (:func:`batch_rows`) come from batched exact propagation; the first of
+    them also runs alone, and unless the batch reproduces its row (:func:`agrees`) the whole
+    group runs one by one. Every other run is the scene's single run."""
+    import time
+
+    from beltcalc.sim.study.plan import BATCH_GROUP
+
+    w0, c0 = time.perf_counter(), time.process_time()
+    lo, hi = plan.bounds(c)
+    X, priority = plan.draws(lo, hi)
+    rows: list = []
+    columns: dict = {}
+    used = 0
+    a = lo
+    while a < hi:
+        b = min(hi, (a // BATCH_GROUP + 1) * BATCH_GROUP)
+        group, n = _group(plan, X[a - lo:b - lo], columns, tick)
+        rows += group
+        used += n
+        a = b
+    chunk = finish(plan, Chunk(c, rows, columns, used), priority)
+    chunk.wall, chunk.cpu = time.perf_counter() - w0, time.process_time() - c0
+    return chunk
+
+
+def _group(plan: Plan, X: np.ndarray, columns: dict, tick) -> tuple[list[RunRow], int]:
+    """The rows of the runs ``X`` (one group of the batch: :func:`run_chunk`) and how many of
+    them came from the batch; ``columns`` gains the columns the single runs report."""
     batched = _batch(plan, X)
     rows: list = [None] * len(X)
-    columns: dict = {}
 
     def single(i):
         row, cols = run_one(plan, X[i])
@@ -154,12 +192,50 @@ def run_chunk(plan: Plan, c: int, tick: Callable[[int], None] | None = None) -> 
                 tick(1)
         else:
             single(i)
-    return Chunk(c, rows, columns, used)
+    return rows, used
+
+
+def finish(plan: Plan, chunk: Chunk, priority) -> Chunk:
+    """``chunk`` as it goes back: where ``plan.fold`` is set, its part and its rows as the fold
+    asks (CSV lines, columns, the rows themselves, or none)."""
+    chunk.runs = len(chunk.rows)
+    spec = plan.fold
+    if spec is None:
+        return chunk
+    from beltcalc.sim.study.fold import fold_rows
+
+    lo, _ = plan.bounds(chunk.index)
+    chunk.part = fold_rows(spec, lo, chunk.rows, priority)
+    if "csv" in spec.send:
+        import csv
+        import io
+
+        text = io.StringIO()
+        csv.writer(text, lineterminator="\n").writerows(row_cells(r, spec.keys) for r in chunk.rows)
+        chunk.csv = text.getvalue()
+    if "table" in spec.send:
+        chunk.table = row_table(chunk.rows, spec)
+    if "rows" not in spec.send:
+        chunk.rows = []
+    return chunk
 
 
 def failed_chunk(plan: Plan, c: int, reason: str) -> Chunk:
     """Chunk ``c`` whose task failed after its retries: every run a row with the reason."""
-    return Chunk(c, [RunRow(tuple(float(v) for v in x), {}, error=f"task failed: {reason}") for x in plan.inputs(c)], {})
+    X, priority = plan.draws(*plan.bounds(c))
+    rows = [RunRow(tuple(float(v) for v in x), {}, error=f"task failed: {reason}") for x in X]
+    return finish(plan, Chunk(c, rows, {}), priority)
+
+
+def row_table(rows: Sequence[RunRow], spec) -> dict:
+    """Rows as columns (key -> list): the inputs (``spec.inputs``' CSV keys are the caller's:
+    here ``input_0 ..``), ``spec.keys``, ``failed_checks``, ``warnings`` (count), ``error``."""
+    data = {f"input_{i}": [r.inputs[i] for r in rows] for i in range(len(spec.inputs))}
+    data.update({k: [r.values.get(k) for r in rows] for k in spec.keys})
+    data["failed_checks"] = [";".join(c.key for c in r.failed) for r in rows]
+    data["warnings"] = [len(r.warnings) for r in rows]
+    data["error"] = [r.error for r in rows]
+    return data
 
 
 def row_cells(row: RunRow, keys: Iterable[str]) -> list:

@@ -134,6 +134,7 @@ def _in_process(plan: Plan, on_chunk, progress=None) -> Execution:
         chunk = run_chunk(plan, c, progress)
         wall, cpu = wall + chunk.wall, cpu + chunk.cpu
         on_chunk(chunk)
+        del chunk                                # not held while the next one runs
     return Execution("in-process", 1, plan.n_chunks, plan.chunk, plan.n_runs, 0.0, time.perf_counter() - w0,
                      time.process_time() - c0, wall, cpu)
 

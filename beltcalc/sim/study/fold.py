@@ -94,7 +94,7 @@ class Node:
 
 def _merge(a, b):
     """(n, mean, M) of two sets from theirs [CGL79]; arrays of any leading shape (either set
-    may be empty: n = 0)."""
+    may be empty: n = 0; M None: single runs, whose co-moments are 0)."""
     na, ma, Ma = a
     nb, mb, Mb = b
     n = na + nb
@@ -102,7 +102,9 @@ def _merge(a, b):
     g = np.divide(na * nb, n, out=np.zeros_like(n), where=n > 0)
     delta = mb - ma
     mean = ma + delta * f[..., None]
-    M = Ma + Mb + delta[..., :, None] * delta[..., None, :] * g[..., None, None]
+    M = delta[..., :, None] * delta[..., None, :] * g[..., None, None]
+    if Ma is not None:
+        M = Ma + Mb + M
     return n, mean, M
 
 
@@ -111,20 +113,28 @@ def tree_nodes(r0: int, Z: np.ndarray, ok: np.ndarray) -> list[Node]:
     ``Z`` (runs, m, k + 1): per run and output its [inputs..., output]; ``ok`` (runs, m): the
     output is finite (a run where it is not counts for nothing in that output)."""
     w = ok.astype(float)
-    cur = (w, np.where(ok[..., None], Z, 0.0), np.zeros(Z.shape + Z.shape[-1:]))
+    cur = (w, np.where(ok[..., None], Z, 0.0), None)          # runs: co-moments 0 (None, not stored)
+    zero = np.zeros(Z.shape[1:] + Z.shape[-1:])
     a, b, level = r0, r0 + len(Z), 0
     left: list[Node] = []
     right: list[Node] = []
+
+    def node(i):                                 # copies: a view would keep the level's whole array alive
+        return cur[0][i].copy(), cur[1][i].copy(), zero.copy() if cur[2] is None else cur[2][i].copy()
+
+    def cut(sl):
+        return tuple(None if x is None else x[sl] for x in cur)
+
     while b > a:
         if a % 2:                                # its sibling lies before these runs
-            left.append(Node(level, a, *(x[0] for x in cur)))
-            cur, a = tuple(x[1:] for x in cur), a + 1
+            left.append(Node(level, a, *node(0)))
+            cur, a = cut(slice(1, None)), a + 1
         if b > a and (b - a) % 2:                # ... after them
-            right.append(Node(level, b - 1, *(x[-1] for x in cur)))
-            cur, b = tuple(x[:-1] for x in cur), b - 1
+            right.append(Node(level, b - 1, *node(-1)))
+            cur, b = cut(slice(None, -1)), b - 1
         if b == a:
             break
-        cur = _merge(tuple(x[0::2] for x in cur), tuple(x[1::2] for x in cur))
+        cur = _merge(cut(slice(0, None, 2)), cut(slice(1, None, 2)))
         a, b, level = a // 2, b // 2, level + 1
     return left + right[::-1]
 

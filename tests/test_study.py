@@ -273,6 +273,28 @@ def test_batched_rows_are_the_same_whatever_the_chunks():
     assert sum(1 for r in rows[750] if r.values) == 750
 
 
+def test_a_chunk_whose_task_failed_is_its_rows_with_the_reason_in_the_fold():
+    # a task that fails after its retries (a worker lost) comes back as its runs' rows with the
+    # reason, folded here like any other chunk: the study goes on, and the report counts them
+    from dataclasses import replace
+
+    from beltcalc.sim.study.runs import failed_chunk
+
+    p = plan(["C4=normal(260N*m/rad,5%)"], runs=30, seed=3, chunk=10)
+    spec = FoldSpec(("C4",), ("steady_main_speed_mean_rad_per_s",), send=frozenset({"csv"}))
+    q = replace(p, fold=spec)
+    fold = Fold(spec)
+    chunks = [run_chunk(q, 0), failed_chunk(q, 1, "KilledWorker: worker lost"), run_chunk(q, 2)]
+    for chunk in chunks:
+        fold.add(chunk.part)
+    s = fold.summary()
+    assert s.runs == 30 and s.errors == 10 and s.outputs["steady_main_speed_mean_rad_per_s"]["n"] == 20
+    assert s.reasons == [("task failed: KilledWorker: worker lost", [10, 10])]
+    lines = chunks[1].csv.splitlines()
+    assert len(lines) == 10 and all(line.endswith(",task failed: KilledWorker: worker lost") for line in lines)
+    assert [float(line.split(",")[0]) for line in lines] == [x[0] for x in p.draws(10, 20)[0]]
+
+
 def test_chunks_are_sized_so_that_every_worker_gets_several():
     from beltcalc.sim.study.plan import chunk_size
 

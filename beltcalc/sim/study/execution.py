@@ -184,6 +184,25 @@ def study_cluster(workers: int | None = None, scheduler: str | None = None) -> I
                                  time.perf_counter() - t0)
 
 
+_FROZEN = [False]
+
+
+def chunk_task(plan: Plan, c: int) -> Chunk:
+    """:func:`~beltcalc.sim.study.runs.run_chunk` as a Dask worker runs it. After a worker's
+    first chunk, what its imports and that chunk left alive (Dask, numpy, scipy, beltcalc's
+    modules and caches) is frozen out of the garbage collector (``gc.freeze``), as the command
+    line does in its own process (:func:`beltcalc.cli.main.main`): the collections the runs
+    trigger then walk only the runs' objects."""
+    import gc
+
+    chunk = run_chunk(plan, c)
+    if not _FROZEN[0]:
+        _FROZEN[0] = True
+        gc.collect()
+        gc.freeze()
+    return chunk
+
+
 def _run_on(cluster: StartedCluster, plan: Plan, on_chunk, progress, retries: int = 2) -> Execution:
     """Every chunk of ``plan`` as a task of ``cluster``, at most about two per worker in
     flight, handed to ``on_chunk`` in chunk order; a task that fails after its retries is
@@ -205,7 +224,7 @@ def _run_on(cluster: StartedCluster, plan: Plan, on_chunk, progress, retries: in
     ac = as_completed()
     while done < n:
         while nxt < n and (nxt - done) < cap:
-            fut = client.submit(run_chunk, shared, nxt, retries=retries, pure=False,
+            fut = client.submit(chunk_task, shared, nxt, retries=retries, pure=False,
                                 key=f"beltcalc-chunk-{nxt}-{token}")
             which[fut.key] = nxt
             ac.add(fut)

@@ -150,6 +150,9 @@ SOURCES: dict[str, Source] = {s.key: s for s in (
     Source("Coh97", "Numerical methods",
            'E. Cohen, "Size-estimation framework with applications to transitive closure and reachability", '
            'J. Comput. System Sci. 55 (1997) 441-453'),
+    Source("HSF92", "Numerical methods",
+           'S. F. Hummel, E. Schonberg, L. E. Flynn, "Factoring: a method for scheduling parallel loops", '
+           'Commun. ACM 35(8) (1992) 90-101'),
     Source("SMDS11", "Numerical methods",
            'J. K. Salmon, M. A. Moraes, R. O. Dror, D. E. Shaw, "Parallel random numbers: as easy as 1, 2, 3", '
            'Proc. SC11 (2011), article 16'),

@@ -1,7 +1,7 @@
 """What a study runs: the runs of one scene with some of its values replaced, by the points
 of a grid or by values drawn from distributions (:class:`Distribution`, read by
 :func:`parse_vary`), in chunks (:class:`Plan`) sized to the work and the workers
-(:func:`chunk_size`).
+(:func:`chunk_size`), smaller towards the end (:func:`chunk_starts`).
 
 Every run draws its own values (:meth:`Plan.draws`): run ``i`` reads the words of the
 counter-based generator Philox-4x64 [SMDS11] (key from ``numpy.random.SeedSequence(seed)``)
@@ -12,6 +12,9 @@ rows whatever the chunks and however many workers run them. SI floats; no click,
 (texts are read through :mod:`beltcalc.params` and :mod:`beltcalc.units`).
 
 References:
+
+[HSF92] S. F. Hummel, E. Schonberg, L. E. Flynn, "Factoring: a method for scheduling parallel
+    loops", Commun. ACM 35(8) (1992) 90-101.
 
 [SMDS11] J. K. Salmon, M. A. Moraes, R. O. Dror, D. E. Shaw, "Parallel random numbers: as easy
     as 1, 2, 3", Proc. SC11 (2011), article 16.
@@ -33,6 +36,8 @@ MAX_GRID = 1_000_000     # points of a grid (its rows are kept for the table)
 TASKS_PER_WORKER = 4     # chunks per worker: the last ones to finish leave the others idle for at most 1/4 of a share
 MIN_TASK_S = 1.0         # a chunk of less work than this costs more in dispatch and its check run than it balances
 MAX_CHUNK = 1000         # runs per chunk: what a chunk holds and sends back (its rows, its reservoir) stays small
+TAIL_MIN_S = 0.1         # the last chunks (chunk_starts) hold at least this much work, and
+DISPATCH_S = 0.01        # at least twice what this process spends on one chunk (Dask's dispatch, the merge) per worker
 BATCH_GROUP = 250        # runs batched together (beltcalc.sim.study.runs.run_chunk): a chunk of a scene that batches holds whole groups
 
 
@@ -183,7 +188,8 @@ class Plan:
     dists: tuple[Distribution, ...] | None = None
     runs: int = 0
     seed: int = 0
-    chunk: int = 0                 # runs per chunk; 0: sized where it runs (chunk_size)
+    chunk: int = 0                 # runs per chunk (the largest); 0: sized where it runs (chunk_size)
+    starts: tuple[int, ...] | None = None   # each chunk's first run where they are not all `chunk` long (chunk_starts)
     options: Mapping[str, object] = field(default_factory=dict)
     batch: bool = True             # batched exact propagation where the scene declares it (Scene.batch)
     fold: object = None            # a tolerance study's fold (beltcalc.sim.study.fold.FoldSpec): done by the chunk
@@ -195,10 +201,12 @@ class Plan:
 
     @property
     def n_chunks(self) -> int:
-        return -(-self.n_runs // self.chunk)
+        return len(self.starts) if self.starts is not None else -(-self.n_runs // self.chunk)
 
     def bounds(self, c: int) -> tuple[int, int]:
         """The runs of chunk ``c``: ``range(*plan.bounds(c))``."""
+        if self.starts is not None:
+            return self.starts[c], self.starts[c + 1] if c + 1 < len(self.starts) else self.n_runs
         return c * self.chunk, min((c + 1) * self.chunk, self.n_runs)
 
     def inputs(self, c: int) -> np.ndarray:
@@ -234,13 +242,17 @@ class Plan:
         return X, words[:, k].copy()
 
     def sized(self, workers: int) -> "Plan":
-        """This plan in chunks of :func:`chunk_size` for ``workers`` (as it is where its size is set)."""
+        """This plan in chunks for ``workers`` (as it is where its size is set): of
+        :func:`chunk_size` runs in this process, and on several workers smaller towards the
+        end (:func:`chunk_starts`)."""
         from dataclasses import replace
 
         if self.chunk:
             return self
         unit = BATCH_GROUP if self.batch and getattr(self.scene, "batched", None) is not None else 1
-        return replace(self, chunk=chunk_size(self.n_runs, workers, self.run_cost, unit))
+        size = chunk_size(self.n_runs, workers, self.run_cost, unit)
+        starts = chunk_starts(self.n_runs, workers, size, self.run_cost, unit) if workers > 1 else None
+        return replace(self, chunk=size, starts=starts)
 
 
 def chunk_size(runs: int, workers: int, run_cost: float | None = None, unit: int = 1) -> int:
@@ -266,3 +278,36 @@ def chunk_size(runs: int, workers: int, run_cost: float | None = None, unit: int
         size = max(size, math.ceil(MIN_TASK_S / run_cost))
     size = min(size, MAX_CHUNK, -(-runs // workers))
     return max(unit, size // unit * unit)
+
+
+def chunk_starts(runs: int, workers: int, size: int, run_cost: float | None = None,
+                 unit: int = 1) -> tuple[int, ...]:
+    """Where each chunk starts: chunks of ``size`` runs while the runs left are many, then each
+    chunk a ``1 / (2 workers)`` share of the runs left [HSF92], so that the last chunks to
+    finish are short and no worker waits long for the others; no chunk under ``size`` or
+    under :data:`TAIL_MIN_S` of work, whichever is less, nor so short that this process,
+    handing chunks out one at a time, cannot keep every worker fed (``2 workers``
+    :data:`DISPATCH_S` of work); ``run_cost`` seconds a run (unknown: the floor is one
+    ``unit``); every start a multiple of ``unit`` (the batch's groups).
+
+    With chunks all of ``size`` runs, the workers still busy at the end hold a whole chunk
+    each: on 16 workers, 4 chunks each, that is up to a quarter of a worker's share, while
+    the others wait. Here the wait is at most the last chunk's work.
+
+    >>> s = chunk_starts(400, 2, 50, 0.15)
+    >>> len(s), [b - a for a, b in zip(s, s[1:] + (400,))][-8:]
+    (20, [5, 4, 3, 2, 2, 1, 1, 1])
+    >>> s = chunk_starts(50_000, 2, 1000, 0.003, 250)
+    >>> len(s), [b - a for a, b in zip(s, s[1:] + (50_000,))][-9:]
+    (56, [750, 500, 250, 250, 250, 250, 250, 250, 250])
+    """
+    workers, size, unit = max(1, int(workers)), max(1, int(size)), max(1, int(unit))
+    floor_s = max(TAIL_MIN_S, 2 * workers * DISPATCH_S)
+    least = unit if run_cost is None or run_cost <= 0 else math.ceil(floor_s / run_cost / unit) * unit
+    least = max(unit, min(size, least))
+    starts, lo = [], 0
+    while lo < runs:                   # each pass takes at least one unit of runs: at most `runs` passes
+        starts.append(lo)
+        share = -(-(runs - lo) // (2 * workers)) // unit * unit
+        lo += min(size, max(least, share))
+    return tuple(starts)

@@ -442,7 +442,7 @@ def test_a_local_dask_cluster_gives_the_rows_and_the_summary_of_the_in_process_r
     # and every statistic are the same, bit for bit (beltcalc.sim.study.fold). One by one here
     # (the batch's rows: test_batched_rows_are_the_same_whatever_the_chunks)
     pytest.importorskip("distributed")
-    from beltcalc.sim.study.execution import study_cluster
+    from beltcalc.sim.study.execution import study_cluster, study_modules, warm_worker
 
     p = plan(["C4=normal(260N*m/rad,5%)", "J1=normal(1.1e-5kg*m^2,150%)"], runs=240, seed=9, batch=False)
     local = rows_of(p, workers=1)
@@ -453,7 +453,10 @@ def test_a_local_dask_cluster_gives_the_rows_and_the_summary_of_the_in_process_r
     csv_here, csv_there = [], []
     here, how_here = tolerance_study(p, cols, limits, lambda ch: csv_here.append(ch.csv), workers=1, send=("csv",))
     rows = []
+    names = study_modules()               # what the workers import as the cluster starts: the runs' code
+    assert "beltcalc.sim.core" in names and not any(n.startswith("beltcalc.cli") for n in names)
     with study_cluster(2) as cluster:
+        assert list(cluster.client.run(warm_worker, ["json", "beltcalc.no_such_module"]).values()) == [1, 1]
         how = execute(there_plan, lambda chunk: rows.extend(chunk.rows), cluster=cluster)
         there, how_there = tolerance_study(there_plan, cols, limits, lambda ch: csv_there.append(ch.csv), send=("csv",),
                                            cluster=cluster)

@@ -215,7 +215,7 @@ def scaling_lines(scale: dict) -> list[str]:
         one = rows[min(rows)]
         lines += [f"### {titles[key].format(runs=f'{runs:,}')}", "",
                   "| workers | end to end [s] | cluster start [s] | compute [s] | speed-up, start included | "
-                  "speed-up, start excluded | chunks x runs | client CPU per run [ms] | client CPU / workers' CPU | "
+                  "speed-up, start excluded | chunks x runs (the largest) | client CPU per run [ms] | client CPU / workers' CPU | "
                   "workers busy | statistics as in this process |", "|---|---|---|---|---|---|---|---|---|---|---|"]
         for w, r in sorted(rows.items()):
             same = r["outputs"] == one["outputs"] and r["limits"] == one["limits"]

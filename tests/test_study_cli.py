@@ -227,6 +227,35 @@ def test_one_and_two_workers_give_the_same_rows(tmp_path):
     assert two.read_text() == one.read_text()
 
 
+def test_without_workers_a_study_goes_to_a_local_cluster_only_where_its_runs_repay_its_start(tmp_path, monkeypatch):
+    # no --workers: the first chunk (one batch group of 250 runs) runs here and times a run; the
+    # other 350 (about 0.4 s here) stay here, under what 2 workers must save to repay their
+    # start. With the start taken as free they go to the workers. Either way the rows and every
+    # statistic are those of --workers 1, bit for bit
+    pytest.importorskip("distributed")
+    import os
+
+    import beltcalc.sim.study.execution as execution
+
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    args = (*SEWING, *VARY, "--runs", "600", "--seed", "4", "--json")
+    paths = {k: tmp_path / f"{k}.csv" for k in ("one", "here", "there")}
+    one = json.loads(ok(run(*args, "--workers", "1", "--csv", str(paths["one"]))).stdout)
+    here = json.loads(ok(run(*args, "--csv", str(paths["here"]))).stdout)
+    assert here["execution"] == "in-process" and here["execution_profile"]["chunks"] >= 2
+    assert here["execution_profile"]["why"].startswith("the first 250 runs timed a run: the other 350 take about")
+    assert "under the 2 s a cluster of 2 workers must save" in here["execution_profile"]["why"]
+    monkeypatch.setattr(execution, "START_S", 0.0)
+    monkeypatch.setattr(execution, "START_S_PER_WORKER", 0.0)
+    there = json.loads(ok(run(*args, "--csv", str(paths["there"]))).stdout)
+    assert there["execution"] == "dask local cluster, 2 workers"
+    assert "over the 0 s a cluster of 2 workers must save" in there["execution_profile"]["why"]
+    assert there["execution_profile"]["chunks"] >= 3
+    for out in (here, there):
+        assert out["outputs"] == one["outputs"] and out["limits"] == one["limits"]
+    assert paths["here"].read_text() == paths["there"].read_text() == paths["one"].read_text()
+
+
 def test_an_existing_scheduler_from_the_option_or_the_environment(tmp_path, monkeypatch):
     # a cluster started here (worker threads in this process) stands for a remote one
     distributed = pytest.importorskip("distributed")

@@ -380,8 +380,9 @@ def common_options(spec: Scene | None):
             click.option("--parquet", "parquet_path", type=OutputPath(), default=None,
                          help="Write a --vary study's rows as Parquet (needs pyarrow)."),
             click.option("--workers", type=click.IntRange(1, 1024), default=None,
-                         help="Processes of the local Dask cluster of a study over 200 runs [default: the CPU "
-                              "count]; 1: in this process."),
+                         help="Processes of the local Dask cluster of a study over 200 runs; 1: in this "
+                              "process [default: the CPU count, where the study's first runs, timed here, show "
+                              "that the rest would take longer than the cluster's start]."),
             click.option("--scheduler", default=None, envvar="DASK_SCHEDULER_ADDRESS", metavar="tcp://HOST:PORT",
                          help="Run a study on an existing Dask cluster [default: $DASK_SCHEDULER_ADDRESS]."),
             click.option("--plot", "plot_path", type=OutputPath(), default=None,

@@ -18,6 +18,12 @@ from beltcalc.sim.study.plan import Plan
 from beltcalc.sim.study.runs import Chunk, RunRow, failed_chunk, run_chunk
 
 DASK_MIN_RUNS = 200      # below this a local cluster costs more than it saves
+PROBE_S = 0.3            # the first chunk that measures a run here (by the nominal run's time; one batch group where it batches)
+# what a local cluster costs a study, about: Dask's import, its start, the workers' import of the
+# runs' code, its close (1.0 s for 2 workers on 2 cores, commands timed; 4.5 s for 16 workers in
+# issue 34). A sewing study went to 2 workers from 2,000 runs (where one process is 0.1-0.3 s
+# faster: the first chunk's first calls make a run look 40 % dearer); from 3,000 they win.
+START_S, START_S_PER_WORKER = 0.5, 0.25
 
 
 def dask_available() -> bool:
@@ -34,7 +40,8 @@ class Execution:
     have the workers import the runs' code (``start``, 0 in this process), to compute every chunk (``compute``: from the first chunk
     sent to the last one handed on), this process's CPU meanwhile (``client_cpu``: handing
     chunks out, merging what comes back, writing the rows; in this process, the runs too), and
-    the chunks' own wall and CPU time where they ran (``chunk_wall``, ``chunk_cpu``)."""
+    the chunks' own wall and CPU time where they ran (``chunk_wall``, ``chunk_cpu``); ``why``
+    it ran where it did, when that was measured (:func:`execute`)."""
 
     how: str
     workers: int = 1
@@ -46,6 +53,7 @@ class Execution:
     client_cpu: float = 0.0
     chunk_wall: float = 0.0
     chunk_cpu: float = 0.0
+    why: str = ""
 
     @property
     def busy(self) -> float | None:
@@ -63,7 +71,7 @@ class Execution:
                 "worker_cpu": q(self.chunk_cpu, "s"),
                 "client_cpu_share": q(self.client_cpu / self.chunk_cpu if remote and self.chunk_cpu > 0 else None,
                                       "1"),
-                "worker_busy": q(self.busy, "1")}
+                "worker_busy": q(self.busy, "1"), "why": self.why or None}
 
     def text(self) -> str:
         """One line for the report.
@@ -73,12 +81,13 @@ class Execution:
         """
         who = f"{self.workers} worker{'' if self.workers == 1 else 's'}" if self.how != "in-process" else "in this process"
         line = f"{who}, {self.chunks:,} chunk{'' if self.chunks == 1 else 's'} of up to {self.chunk:,} runs: "
+        why = f" ({self.why})" if self.why else ""
         if self.how == "in-process":
-            return line + f"compute {self.compute:.3g} s"
+            return line + f"compute {self.compute:.3g} s{why}"
         busy = "" if self.busy is None else f", workers busy {self.busy:.0%}"
         share = f" ({self.client_cpu / self.chunk_cpu:.2%} of the workers')" if self.chunk_cpu > 0 else ""
         return (line + f"cluster start {self.start:.2g} s, compute {self.compute:.3g} s{busy}; this process "
-                f"{self.client_cpu:.2g} s of CPU{share}")
+                f"{self.client_cpu:.2g} s of CPU{share}{why}")
 
 
 def execute(plan: Plan, on_chunk: Callable[[Chunk], None], workers: int | None = None,
@@ -90,9 +99,11 @@ def execute(plan: Plan, on_chunk: Callable[[Chunk], None], workers: int | None =
 
     ``cluster``: a cluster already started (:func:`study_cluster`: studies in a row pay its
     start once). Else ``scheduler`` (``tcp://HOST:PORT``): an existing Dask cluster. Else
-    ``workers`` processes of a local Dask cluster (default: the CPU count) when dask is
-    installed, the study has more than :data:`DASK_MIN_RUNS` runs and ``workers`` > 1;
-    otherwise in this process. Returns how it ran (:class:`Execution`: ``how`` is
+    ``workers`` processes of a local Dask cluster when dask is installed, the study has more
+    than :data:`DASK_MIN_RUNS` runs and ``workers`` > 1; otherwise in this process. With
+    ``workers`` not given (None: up to the CPU count), the study's first chunk runs here and
+    measures a run (:func:`_measured`): the rest goes to a local cluster only where it would
+    take longer here than the cluster's start costs. Returns how it ran (:class:`Execution`: ``how`` is
     ``"in-process"``, ``"dask local cluster, N workers"`` or ``"dask scheduler ADDRESS"``);
     ``notes`` receives why it did not use Dask when asked; ``progress(n)`` is called as runs
     finish (after each run in this process, after each chunk on Dask).
@@ -102,6 +113,7 @@ def execute(plan: Plan, on_chunk: Callable[[Chunk], None], workers: int | None =
     if cluster is not None:
         return _run_on(cluster, plan, on_chunk, progress)
     check_scheduler(scheduler)
+    auto = workers is None
     workers = workers or os.cpu_count() or 1
     if scheduler is None and (workers <= 1 or plan.n_runs <= DASK_MIN_RUNS):
         return _in_process(plan, on_chunk, progress)
@@ -112,8 +124,49 @@ def execute(plan: Plan, on_chunk: Callable[[Chunk], None], workers: int | None =
             notes.append(f'dask is not installed: the {plan.n_runs} runs go in this process, one at a time '
                          '(pip install "beltcalc[dist]" for a local cluster of processes)')
         return _in_process(plan, on_chunk, progress)
+    if auto and scheduler is None and not plan.chunk:
+        return _measured(plan, on_chunk, workers, progress)
     with study_cluster(workers, scheduler) as started:
         return _run_on(started, plan, on_chunk, progress)
+
+
+def _measured(plan: Plan, on_chunk, workers: int, progress=None) -> Execution:
+    """The first chunk in this process (about :data:`PROBE_S` of work by the nominal run's
+    time, or one batch group), then the rest here or on a local cluster of ``workers``: on the
+    cluster where the rest would take longer here than its start (:data:`START_S` +
+    :data:`START_S_PER_WORKER` a worker) repays, ``S W / (W - 1)``. The rows and the summary
+    are those of any other chunking."""
+    import math
+    import time
+
+    from dataclasses import replace
+
+    unit, n = plan.unit, plan.n_runs
+    first = unit if unit > 1 or not plan.run_cost else max(1, math.ceil(PROBE_S / plan.run_cost))
+    first = min(n, first)
+    w0, c0 = time.perf_counter(), time.process_time()
+    chunk = run_chunk(plan.after(first, 1), 0, progress)
+    wall, cpu, runs = chunk.wall, chunk.cpu, chunk.runs
+    on_chunk(chunk)
+    del chunk
+    rest = (n - first) * wall / max(runs, 1)
+    start = START_S + START_S_PER_WORKER * workers
+    worth = start * workers / (workers - 1)
+    if rest <= worth:
+        here = plan.after(first, 1)
+        why = (f"the first {first:,} runs timed a run: the other {n - first:,} take about {rest:.2g} s here, under "
+               f"the {worth:.2g} s a cluster of {workers} workers must save to repay its start")
+        tail = _in_process(here, on_chunk, progress, first=1)
+        return replace(tail, chunks=here.n_chunks, runs=n, compute=time.perf_counter() - w0,
+                       client_cpu=time.process_time() - c0, chunk_wall=tail.chunk_wall + wall,
+                       chunk_cpu=tail.chunk_cpu + cpu, why=why)
+    why = (f"the first {first:,} runs timed a run here: the other {n - first:,} would take about {rest:.2g} s in "
+           f"this process, over the {worth:.2g} s a cluster of {workers} workers must save to repay its start")
+    there = plan.after(first, workers)
+    with study_cluster(workers) as started:
+        tail = _run_on(started, there, on_chunk, progress, first=1)
+    return replace(tail, chunks=there.n_chunks, runs=n, compute=tail.compute + wall, chunk_wall=tail.chunk_wall + wall,
+                   chunk_cpu=tail.chunk_cpu + cpu, why=why)
 
 
 def check_scheduler(scheduler: str | None) -> None:
@@ -124,13 +177,13 @@ def check_scheduler(scheduler: str | None) -> None:
         raise UsageError(f"{quote(scheduler)}: give the scheduler's address, e.g. tcp://HOST:8786", param="scheduler")
 
 
-def _in_process(plan: Plan, on_chunk, progress=None) -> Execution:
+def _in_process(plan: Plan, on_chunk, progress=None, first: int = 0) -> Execution:
     import time
 
     plan = plan.sized(1)
     w0, c0 = time.perf_counter(), time.process_time()
     wall = cpu = 0.0
-    for c in range(plan.n_chunks):
+    for c in range(first, plan.n_chunks):
         chunk = run_chunk(plan, c, progress)
         wall, cpu = wall + chunk.wall, cpu + chunk.cpu
         on_chunk(chunk)
@@ -233,10 +286,11 @@ def chunk_task(plan: Plan, c: int) -> Chunk:
     return chunk
 
 
-def _run_on(cluster: StartedCluster, plan: Plan, on_chunk, progress, retries: int = 2) -> Execution:
+def _run_on(cluster: StartedCluster, plan: Plan, on_chunk, progress, retries: int = 2, first: int = 0) -> Execution:
     """Every chunk of ``plan`` as a task of ``cluster``, at most about two per worker in
     flight, handed to ``on_chunk`` in chunk order; a task that fails after its retries is
-    its chunk's rows with the reason. The cluster's start counts for its first study only,
+    its chunk's rows with the reason; chunks from ``first`` on (those before it ran
+    elsewhere). The cluster's start counts for its first study only,
     and with it the workers' import of the runs' code (:func:`warm_worker`, about 0.25 s)."""
     import time
     import uuid
@@ -258,7 +312,7 @@ def _run_on(cluster: StartedCluster, plan: Plan, on_chunk, progress, retries: in
     n = plan.n_chunks
     cap = 2 * cluster.workers + 2
     token = uuid.uuid4().hex
-    nxt, done, pending, which = 0, 0, {}, {}
+    nxt, done, pending, which = first, first, {}, {}
     wall = cpu = 0.0
     ac = as_completed()
     while done < n:

@@ -249,10 +249,31 @@ class Plan:
 
         if self.chunk:
             return self
-        unit = BATCH_GROUP if self.batch and getattr(self.scene, "batched", None) is not None else 1
-        size = chunk_size(self.n_runs, workers, self.run_cost, unit)
-        starts = chunk_starts(self.n_runs, workers, size, self.run_cost, unit) if workers > 1 else None
+        size = chunk_size(self.n_runs, workers, self.run_cost, self.unit)
+        starts = chunk_starts(self.n_runs, workers, size, self.run_cost, self.unit) if workers > 1 else None
         return replace(self, chunk=size, starts=starts)
+
+    def after(self, first: int, workers: int) -> "Plan":
+        """This plan with runs ``0 .. first - 1`` as its chunk 0 and the rest in chunks for
+        ``workers`` (as :meth:`sized` cuts them; ``first`` a multiple of :attr:`unit`).
+
+        >>> p = Plan(None, {}, None, ("x",), dists=(Distribution("uniform", (0.0, 1.0)),), runs=1000, run_cost=0.15)
+        >>> p.after(2, 2).starts[:4], p.after(2, 2).bounds(24), p.after(2, 1).starts
+        ((0, 2, 127, 252), (999, 1000), (0, 2))
+        """
+        from dataclasses import replace
+
+        rest = self.n_runs - first
+        size = chunk_size(rest, workers, self.run_cost, self.unit)
+        cuts = chunk_starts(rest, workers, size, self.run_cost, self.unit) if workers > 1 \
+            else tuple(range(0, rest, size))
+        return replace(self, chunk=max(size, first), starts=(0, *(first + c for c in cuts)))
+
+    @property
+    def unit(self) -> int:
+        """Runs that go together: the batch's group (:data:`BATCH_GROUP`) where the scene
+        batches, else 1; a chunk starts at a multiple of it."""
+        return BATCH_GROUP if self.batch and getattr(self.scene, "batched", None) is not None else 1
 
 
 def chunk_size(runs: int, workers: int, run_cost: float | None = None, unit: int = 1) -> int:

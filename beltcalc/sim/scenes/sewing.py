@@ -28,7 +28,7 @@ from beltcalc.sim.network import Network
 from beltcalc.sim.scenes.base import TIMING, BatchRow, Scene, check_timing, scene_values
 from beltcalc.sim.scenes.outcome import Outcome, SteadyRow, steady_sections
 from beltcalc.sim.scenes.run_checks import motor_checks, resonance_check, stall_checks
-from beltcalc.sim.scenes.steady import exact_steady_state, settling_check
+from beltcalc.sim.scenes.steady import SETTLING_STATES, exact_steady_state, settling_check, settling_residual
 
 NODES = ("1", "2", "3", "4", "5")
 NAMES = {"1": "motor", "2": "driven-pulley rim", "3": "main shaft", "4": "toothed-pulley rim", "5": "bottom shaft"}
@@ -482,9 +482,12 @@ def batched_rows(chunk: Sequence[dict], cfg, angle_loads: bool = False,
             if np.isfinite(seps[j]):                   # resonance_check: separation >= the rule's margin
                 utils.append(RULES["resonance"].limit / seps[j] if seps[j] > 0 else math.inf)
             # settling_check: the transient left at the window start (the single run's check)
-            settled = settling_check(nets[r], window[r][0], float(v["t_end"]))
-            if settled and settled[0].value is not None:
-                utils.append(settled[0].value / settled[0].limit)
+            if nets[r].size <= SETTLING_STATES:
+                from beltcalc.sim.frequency import poles
+
+                settled = settling_residual(nets[r], window[r][0], float(v["t_end"]), poles(nets[r]))
+                if settled is not None:
+                    utils.append(settled[0] / RULES["window_settled"].limit)
             if max(utils) > 1 - MARGIN:
                 continue
             out[r] = [float(x) for x in row] + steady[r]

@@ -84,30 +84,38 @@ def settling_check(net, window: float, t_end: float, taut=None, poles: list | No
         from beltcalc.sim.frequency import poles as every_pole
 
         poles = every_pole(net, taut)
-    decaying = [p for p in poles if _decaying(p)]
-    if not decaying:
+    found = settling_residual(net, window, t_end, poles)
+    if found is None:
         return []
-    slow = max(decaying, key=lambda p: -1.0 / p.s.real)
+    residual, slow, changes = found
     tau = -1.0 / slow.s.real
     need = math.log(1.0 / SETTLED) * tau
-    changes = input_changes(net, t_end)
     last = max(changes) if changes else 0.0
     since = "the start from rest at 0 s" if not changes else f"the last input change at {last:.4g} s"
     length = t_end - window
     fix = (f"run with `window` >= {last + need:.4g} s and `t_end` >= {last + need + length:.4g} s (the same "
            f"{length:.4g} s window)")
-    if window < last:
-        residual = 1.0
-        rule = f"an input changes at {last:.4g} s, inside the window (from {window:.4g} s); "
-    else:
-        residual = math.exp(-(window - last) / tau)
-        rule = ""
+    rule = f"an input changes at {last:.4g} s, inside the window (from {window:.4g} s); " if window < last else ""
     rule += (f"the slowest pole, {_pole_name(net, poles, slow, taut)}, decays to {SETTLED:g} of its start "
              f"{need:.4g} s (ln {1 / SETTLED:g} time constants) after {since}: {fix}")
     if taut is not None and not all(taut):
         slack = [s.name for s, on in zip(net.strands, taut) if not on]
         rule += f"; strands slack as at the end of the run: {', '.join(slack)}"
     return [RULES["window_settled"].check(residual, detail=rule)]
+
+
+def settling_residual(net, window: float, t_end: float, poles: list) -> tuple[float, object, list] | None:
+    """What :func:`settling_check` judges, without its words: (the residual r, the slowest
+    decaying pole, the input changes before ``t_end``), or None where no pole decays. A
+    study's batch asks this of every run (:mod:`beltcalc.sim.scenes.sewing`)."""
+    decaying = [p for p in poles if _decaying(p)]
+    if not decaying:
+        return None
+    slow = max(decaying, key=lambda p: -1.0 / p.s.real)
+    changes = input_changes(net, t_end)
+    last = max(changes) if changes else 0.0
+    residual = 1.0 if window < last else math.exp(-(window - last) / (-1.0 / slow.s.real))
+    return residual, slow, changes
 
 
 def input_changes(net, t_end: float = math.inf) -> list[float]:

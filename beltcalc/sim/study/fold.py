@@ -293,8 +293,6 @@ class Fold:
 
     def summary(self) -> "StudySummary":
         """The report: per output its statistics and the inputs that move it most."""
-        from scipy.stats import rankdata
-
         k = len(self.spec.inputs)
         order = np.argsort(self.run, kind="stable")
         R = self.sample[order]
@@ -318,11 +316,11 @@ class Fold:
             src, r2 = _src(cov, k)
             rho = [None] * k
             if ok.sum() > 2 and np.ptp(y[ok]) > 0:
-                ry = rankdata(y[ok])
+                ry = ranks(y[ok])
                 for i in range(k):
                     x = R[ok, i]
                     if np.ptp(x) > 0:
-                        rho[i] = float(np.corrcoef(rankdata(x), ry)[0, 1])
+                        rho[i] = float(np.corrcoef(ranks(x), ry)[0, 1])
             entry["influence"] = sorted(
                 ({"input": name, "src": s, "spearman": r} for name, s, r in zip(self.spec.inputs, src, rho)),
                 key=lambda e: -abs(e["src"] if e["src"] is not None else (e["spearman"] or 0.0)))
@@ -356,6 +354,19 @@ def _src(cov: np.ndarray, k: int) -> tuple[list[float | None], float | None]:
         out[i] = float(bi * math.sqrt(cov[i, i]) / sy)
     r2 = float(cxy @ b / sy2)
     return out, min(max(r2, 0.0), 1.0)
+
+
+def ranks(x: np.ndarray) -> np.ndarray:
+    """Average ranks from 1 (tied values share the mean of their places), as
+    ``scipy.stats.rankdata`` gives them, without importing ``scipy.stats`` (about a quarter
+    of a second of a study's command).
+
+    >>> ranks(np.array([3.0, 1.0, 3.0, 2.0])).tolist()
+    [3.5, 1.0, 3.5, 2.0]
+    """
+    _, where, counts = np.unique(np.asarray(x, float), return_inverse=True, return_counts=True)
+    last = np.cumsum(counts)
+    return (last - (counts - 1) / 2.0)[np.ravel(where)]
 
 
 def wilson(failed: int, n: int, z: float = Z95) -> tuple[float | None, float | None]:

@@ -1114,39 +1114,37 @@ def studies_results() -> dict:
 
 PYTHON["results studies"] = studies_results
 ST = "results studies"
-_ST_COST = ("| per-run cost / solver-only time of one exact run ({solver_wall:.2f} ms wall, {solver_cpu:.2f} ms CPU) | "
-            "batched {b2:.1f}x wall, {b3:.1f}x CPU ({b0:.2f} ms, {b1:.2f} ms); one by one {s2:.1f}x, {s3:.1f}x |")
-_COST = ("| per-run cost / solver-only time of one exact run (0.268 ms wall, 0.258 ms CPU) | batched 3.2x wall, 3.4x "
-         "CPU (0.87 ms, 0.87 ms a run); one by one 9.7x, 10.1x | <= 3x: not met on this machine |")
-_RSS = "| peak RSS growth from 10^3 runs | time run +5.7 MiB at 10^4; steady state +3.3 MiB at 10^5 | flat |"
-_SEW = ("| sewing, 50,000 runs (batched): 2 local Dask workers against this process | 1.85x end to end, 1.94x "
-        "without the cluster's start; workers busy 99 %; client CPU 1.28 % of the workers'; statistics bit for bit | "
-        ">= 1.9x: not reliably (1.76x-1.94x without the start over this round's seven runs, median 1.87x), not end "
-        "to end; <= 2 %: met |")
-_CONV = ("| conveyor drive file, 400 runs (one by one): 2 workers against this process | 1.86x end to end, 1.93x "
-         "without the start; client CPU 0.74 % of the workers'; statistics bit for bit | >= 1.9x: met without the "
-         "start (1.93x-1.96x over three runs), not end to end |")
-_MILLION = "| 10^6 runs of this study, extrapolated | 14.4 min in one process, 7.2 min on 2 workers | |"
+_COST = ("| per-run cost / solver-only time of one exact run (0.265 ms wall, 0.254 ms CPU) | batched 2.9x wall, 3.05x "
+         "CPU (0.78 ms, 0.78 ms a run); one by one 9.7x, 10.0x | <= 3x: met by wall, CPU 3.05x |")
+_RSS = "| peak RSS growth from 10^3 runs | time run +3.0 MiB at 10^4; steady state +0.0 MiB at 10^5 | flat |"
+_SEW = ("| sewing, 50,000 runs (batched): 2 local Dask workers against this process | 1.71x end to end, 1.78x "
+        "without the cluster's start; workers busy 99 %; client CPU 1.59 % of the workers'; statistics bit for bit | "
+        ">= 1.9x: not met (1.75x-1.95x without the start over this round's eleven runs, median 1.86x), nor end to "
+        "end; <= 2 %: met |")
+_CONV = ("| conveyor drive file, 400 runs (one by one): 2 workers against this process | 1.82x end to end, 1.88x "
+         "without the start; client CPU 0.84 % of the workers'; statistics bit for bit | >= 1.9x without the start: "
+         "in four of six runs (1.87x-1.98x, median 1.95x); not end to end |")
+_MILLION = "| 10^6 runs of this study, extrapolated | 12.9 min in one process, 6.6 min on 2 workers | |"
 BENCHMARK_FIGURES += on("docs/performance.md", [
-    F(ST, _COST, "0.268", J("solver_wall")),
-    F(ST, _COST, "0.258", J("solver_cpu")),
-    F(ST, _COST, "3.2", J("batched/2")),
-    F(ST, _COST, "3.4", J("batched/3")),
-    F(ST, _COST, "0.87", J("batched/0")),
-    F(ST, _COST, "0.87", J("batched/1")),
+    F(ST, _COST, "0.265", J("solver_wall")),
+    F(ST, _COST, "0.254", J("solver_cpu")),
+    F(ST, _COST, "2.9", J("batched/2")),
+    F(ST, _COST, "3.05", J("batched/3")),
+    F(ST, _COST, "0.78", J("batched/0")),
+    F(ST, _COST, "0.78", J("batched/1")),
     F(ST, _COST, "9.7", J("single/2")),
-    F(ST, _COST, "10.1", J("single/3")),
-    F(ST, _RSS, "5.7", J("time run 10,000")),
-    F(ST, _RSS, "3.3", J("steady state 100,000")),
-    F(ST, _SEW, "1.85", J("sewing 2/included")),
-    F(ST, _SEW, "1.94", J("sewing 2/excluded")),
+    F(ST, _COST, "10.0", J("single/3")),
+    F(ST, _RSS, "3.0", J("time run 10,000")),
+    F(ST, _RSS, "0.0", J("steady state 100,000")),
+    F(ST, _SEW, "1.71", J("sewing 2/included")),
+    F(ST, _SEW, "1.78", J("sewing 2/excluded")),
     F(ST, _SEW, "99", J("sewing 2/busy")),
-    F(ST, _SEW, "1.28", J("sewing 2/share")),
-    F(ST, _CONV, "1.86", J("conveyor 2/included")),
-    F(ST, _CONV, "1.93", J("conveyor 2/excluded")),
-    F(ST, _CONV, "0.74", J("conveyor 2/share")),
-    F(ST, _MILLION, "14.4", J("batched, in this process")),
-    F(ST, _MILLION, "7.2", J("batched, 2 local workers")),
+    F(ST, _SEW, "1.59", J("sewing 2/share")),
+    F(ST, _CONV, "1.82", J("conveyor 2/included")),
+    F(ST, _CONV, "1.88", J("conveyor 2/excluded")),
+    F(ST, _CONV, "0.84", J("conveyor 2/share")),
+    F(ST, _MILLION, "12.9", J("batched, in this process")),
+    F(ST, _MILLION, "6.6", J("batched, 2 local workers")),
 ])
 
 

@@ -21,8 +21,9 @@ DASK_MIN_RUNS = 200      # below this a local cluster costs more than it saves
 PROBE_S = 0.3            # the first chunk that measures a run here (by the nominal run's time; one batch group where it batches)
 # what a local cluster costs a study, about: Dask's import, its start, the workers' import of the
 # runs' code, its close (1.0 s for 2 workers on 2 cores, commands timed; 4.5 s for 16 workers in
-# issue 34). A sewing study went to 2 workers from 2,000 runs (where one process is 0.1-0.3 s
-# faster: the first chunk's first calls make a run look 40 % dearer); from 3,000 they win.
+# issue 34). On 2 cores a sewing study of 2,000 batched runs stays here, one of 3,000 goes to the
+# workers; near there either choice costs under 0.4 s (the first chunk's first calls make a run
+# look dearer, and the timed chunk delays the cluster's start).
 START_S, START_S_PER_WORKER = 0.5, 0.25
 
 

@@ -18,7 +18,7 @@ from beltcalc.sim.study.plan import Plan
 from beltcalc.sim.study.runs import Chunk, RunRow, failed_chunk, run_chunk
 
 DASK_MIN_RUNS = 200      # below this a local cluster costs more than it saves
-PROBE_S = 0.3            # the first chunk that measures a run here (by the nominal run's time; one batch group where it batches)
+PROBE_S = 0.3            # the work of the first chunk, which times a run here (one group where the scene batches)
 # what a local cluster costs a study, about: Dask's import, its start, the workers' import of the
 # runs' code, its close (1.0 s for 2 workers on 2 cores, commands timed; 4.5 s for 16 workers in
 # issue 34). On 2 cores a sewing study of 2,000 batched runs stays here, one of 3,000 goes to the
@@ -38,11 +38,12 @@ def dask_available() -> bool:
 class Execution:
     """How a study ran: ``how`` in words, on how many ``workers``, in how many ``chunks`` of
     ``chunk`` runs; the seconds it took to start the local cluster or reach the scheduler and
-    have the workers import the runs' code (``start``, 0 in this process), to compute every chunk (``compute``: from the first chunk
-    sent to the last one handed on), this process's CPU meanwhile (``client_cpu``: handing
-    chunks out, merging what comes back, writing the rows; in this process, the runs too), and
-    the chunks' own wall and CPU time where they ran (``chunk_wall``, ``chunk_cpu``); ``why``
-    it ran where it did, when that was measured (:func:`execute`)."""
+    have the workers import the runs' code (``start``, 0 in this process), to compute every
+    chunk (``compute``: from the first chunk sent to the last one handed on), this process's
+    CPU meanwhile (``client_cpu``: handing chunks out, merging what comes back, writing the
+    rows; in this process, the runs too), and the chunks' own wall and CPU time where they
+    ran (``chunk_wall``, ``chunk_cpu``); ``why`` it ran where it did, when that was measured
+    (:func:`execute`)."""
 
     how: str
     workers: int = 1
@@ -145,8 +146,9 @@ def _measured(plan: Plan, on_chunk, workers: int, progress=None) -> Execution:
     unit, n = plan.unit, plan.n_runs
     first = unit if unit > 1 or not plan.run_cost else max(1, math.ceil(PROBE_S / plan.run_cost))
     first = min(n, first)
+    here = plan.after(first, 1)
     w0, c0 = time.perf_counter(), time.process_time()
-    chunk = run_chunk(plan.after(first, 1), 0, progress)
+    chunk = run_chunk(here, 0, progress)
     wall, cpu, runs = chunk.wall, chunk.cpu, chunk.runs
     on_chunk(chunk)
     del chunk
@@ -154,7 +156,6 @@ def _measured(plan: Plan, on_chunk, workers: int, progress=None) -> Execution:
     start = START_S + START_S_PER_WORKER * workers
     worth = start * workers / (workers - 1)
     if rest <= worth:
-        here = plan.after(first, 1)
         why = (f"the first {first:,} runs timed a run: the other {n - first:,} take about {rest:.2g} s here, under "
                f"the {worth:.2g} s a cluster of {workers} workers must save to repay its start")
         tail = _in_process(here, on_chunk, progress, first=1)
@@ -264,7 +265,7 @@ def warm_worker(names: list[str]) -> int:
         try:
             importlib.import_module(name)
             done += 1
-        except Exception:                    # noqa: BLE001  (a module made at run time: the chunk imports what it needs)
+        except Exception:                    # noqa: BLE001  (a module made at run time: a chunk imports what it needs)
             pass
     gc.collect()
     gc.freeze()

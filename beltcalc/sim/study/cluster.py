@@ -39,11 +39,14 @@ WORKER_ENVIRON = {"DASK_LOGGING__DISTRIBUTED": "critical", "DASK_LOGGING__TORNAD
 # Dask's own periodic work that a study does not use, slowed or off in a local cluster (its
 # scheduler runs in this process, its workers get them as DASK_* variables): the event loop's
 # blocked-loop check every 20 ms, the system monitor every 0.5 s, work stealing (the chunks are
-# alike and handed out as workers free up), and each worker's sampling profiler (every 10 ms).
-# Measured (benchmarks/studies.py, 2 workers): this process's idle CPU 42 -> 16 ms a second, and
-# a worker's CPU per chunk from +5 % over this process's to equal.
+# alike and handed out as workers free up), each worker's sampling profiler (every 10 ms), and
+# the memory monitor of each worker and of its nanny (here, in this process) from every 0.1 s to
+# every second (a worker past its memory limit is still paused, then restarted, within a second).
+# Measured on 2 workers, idle: this process's CPU 42 -> 16 ms a second with the first four,
+# 14 -> 6 ms with the memory monitor's; each worker's 6 -> 2.5 ms a second.
 QUIET_CONFIG = {"distributed.admin.tick.interval": "1s", "distributed.admin.system-monitor.interval": "5s",
-                "distributed.scheduler.work-stealing": False, "distributed.worker.profile.enabled": False}
+                "distributed.scheduler.work-stealing": False, "distributed.worker.profile.enabled": False,
+                "distributed.worker.memory.monitor-interval": "1s"}
 GUARD = ('in a script, start a study under \'if __name__ == "__main__":\', or run it in this process '
          '(`workers` 1)')
 

@@ -2,6 +2,7 @@
 of a drive reads no text, gives the same numbers, and a refused text is refused again, the same,
 on every build (a refusal is not kept)."""
 
+import math
 import textwrap
 
 import pytest
@@ -58,3 +59,19 @@ def test_a_refused_text_is_refused_again_on_every_build(tmp_path):
         messages.append(str(info.value))
     assert messages[0] == messages[1]
     assert "'5 kg' is a mass" in messages[0]
+
+
+def test_a_key_missing_from_the_file_is_missing_on_every_build_that_does_not_set_it(tmp_path):
+    # which keys are missing depends only on the addresses set: a set that gives every key is
+    # kept, and a build with another set is checked again
+    from test_drivefile_rules import INDUCTION
+
+    path = tmp_path / "d.toml"
+    path.write_text(INDUCTION.format(extra="").replace('supply = "50 Hz"\n', ""))
+    f = DriveFile(path)
+    for _ in range(2):
+        net = f.network({"m.supply": 50.0})
+        assert net.motors[0].supply == pytest.approx(2 * math.pi * 50.0)
+        for values in ({}, {"m.breakdown_slip": 0.25}):
+            with pytest.raises(DriveFileError, match=r"motor 'm': supply: missing \(induction: supply frequency\)"):
+                f.network(values)

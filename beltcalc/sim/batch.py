@@ -310,12 +310,19 @@ def _output_row(net, name: str, names: Sequence[str], eye: np.ndarray) -> tuple[
     raise KeyError(name)
 
 
-def resonance_separation(nets: Sequence) -> np.ndarray:
+def eigenvalues(nets: Sequence) -> np.ndarray:
+    """The eigenvalues of each network's state matrix (strands taut), one stacked call:
+    (runs, states), as :func:`beltcalc.sim.frequency.poles` computes them for one."""
+    return np.linalg.eigvals(np.stack([net.state_matrix() for net in nets]))
+
+
+def resonance_separation(nets: Sequence, lam: np.ndarray | None = None) -> np.ndarray:
     """Per network the least relative separation ``|f_e - f_n| / f_n`` of a load's frequency
     (a sinusoid in time with an amplitude) from an undamped natural frequency of an
     oscillatory mode (:func:`beltcalc.sim.scenes.run_checks.resonance_check`, whose poles are
-    :func:`beltcalc.sim.frequency.poles`: the eigenvalues of A, one batched call); NaN where
-    there is no such check, 0 where an element has an excitation of its own (not covered here).
+    :func:`beltcalc.sim.frequency.poles`: the eigenvalues of A, one batched call, or ``lam``
+    where given: :func:`eigenvalues`); NaN where there is no such check, 0 where an element has
+    an excitation of its own (not covered here).
 
     Notes
     -----
@@ -325,7 +332,8 @@ def resonance_separation(nets: Sequence) -> np.ndarray:
     out = np.full(len(nets), np.nan)
     if not nets:
         return out
-    lam = np.linalg.eigvals(np.stack([net.state_matrix() for net in nets]))
+    if lam is None:
+        lam = eigenvalues(nets)
     for r, net in enumerate(nets):
         if any(hasattr(el, "excitation") for el in net.elements):
             out[r] = 0.0

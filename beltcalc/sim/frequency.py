@@ -75,7 +75,12 @@ def poles(net, taut: tuple[bool, ...] | None = None) -> list[Pole]:
     >>> [(p.kind, round(p.frequency or 0, 4)) for p in poles(net)]
     [('rigid', 0), ('rigid', 0), ('oscillatory', 0.6366)]
     """
-    lam = np.linalg.eigvals(net.state_matrix(taut))
+    return poles_of(np.linalg.eigvals(net.state_matrix(taut)))
+
+
+def poles_of(lam: np.ndarray) -> list[Pole]:
+    """:func:`poles` of the eigenvalues ``lam`` of a state matrix (a study's batch computes
+    them for a stack of runs at once: :func:`beltcalc.sim.batch.resonance_separation`)."""
     floor = _floor(lam)
     out = [_classify(s, floor) for s in lam if not (s.imag < -floor and abs(s) > floor)]
     rigid = [p for p in out if p.kind == "rigid"]

@@ -56,6 +56,7 @@ class DriveFile:
         self._params: list[DriveParam] | None = None
         self._known_names: set[str] | None = None
         self.file_values: dict = {}             # (entry, key) -> what a build reads of the file itself
+        self._complete: set[frozenset] = set()  # the sets of addresses whose values leave no key missing
         if data is None:
             data = read_drive_toml(self.path)
         if not data:           # an empty file, or comments only: say what a drive is, not its first missing key
@@ -139,7 +140,12 @@ class DriveFile:
 
     def check_needed(self, values: dict) -> None:
         """Every key the entries' kinds need (a motor's, by its kind) that neither the file nor
-        ``values`` (addresses set) gives: one :class:`DriveFileError` naming them all."""
+        ``values`` (addresses set) gives: one :class:`DriveFileError` naming them all. Which
+        keys are missing depends only on the addresses set: a set that leaves none is kept (a
+        study builds the drive thousands of times with the same addresses)."""
+        addresses = frozenset(values)
+        if addresses in self._complete:
+            return
         set_keys: dict[str, set] = {}
         for address in values:
             name, dot, key = address.partition(".")
@@ -150,6 +156,8 @@ class DriveFile:
             problems += ELEMENTS[e.section].missing(e, set(e.raw) | set_keys.get(e.name, set()))
         if problems:
             self.fail_all(problems)
+        if len(self._complete) < 64:
+            self._complete.add(addresses)
 
     # --- parameters -------------------------------------------------------------------------
     def field_of(self, e: Entry, key: str) -> Field:

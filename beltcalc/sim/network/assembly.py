@@ -123,21 +123,29 @@ def require_finite(*arrays: np.ndarray, net=None) -> None:
                           "units; check the values and their units")
 
 
+_FIELDS: dict[type, tuple[tuple[str, object], ...]] = {}     # element kind -> its fields' (name, default)
+
+
+def _fields_of(el) -> tuple[tuple[str, object], ...]:
+    import dataclasses
+
+    return tuple((f.name, f.default) for f in dataclasses.fields(el)) if dataclasses.is_dataclass(el) else ()
+
+
 def require_finite_elements(elements) -> None:
     """Refuse an element with a value beyond the float range (a stiffness G pi d^4 / 32 L of a
     shaft a millionth of a micrometre long): each float field of each element kind."""
-    import dataclasses
-
     for el in elements:
-        if not dataclasses.is_dataclass(el):
-            continue
-        for f in dataclasses.fields(el):
-            v = getattr(el, f.name)
-            if isinstance(v, float) and not math.isfinite(v) and not (v == math.inf == f.default):  # inf: "none"
+        fields = _FIELDS.get(type(el))
+        if fields is None:
+            fields = _FIELDS[type(el)] = _fields_of(el)
+        for key, default in fields:
+            v = getattr(el, key)
+            if isinstance(v, float) and not math.isfinite(v) and not (v == math.inf == default):  # inf: "none"
                 kind = type(el).__name__.lower()
                 name = getattr(el, "name", "") or f"on {getattr(el, 'node', '')}"
-                unit = getattr(el, "UNITS", {}).get(f.name) or "in SI units"
+                unit = getattr(el, "UNITS", {}).get(key) or "in SI units"
                 what = {"C": "stiffness C", "d": "damping d", "J": "inertia J", "U": "ratio U",
-                        "omega": "frequency omega"}.get(f.name, f.name)
+                        "omega": "frequency omega"}.get(key, key)
                 raise FloatRangeError(f"the {what} of {kind} {name} overflows a float "
                                       f"({'not a number' if math.isnan(v) else 'beyond 1e308 ' + unit})")

@@ -403,7 +403,8 @@ def batched_rows(chunk: Sequence[dict], cfg, angle_loads: bool = False,
     run's SI values) by batched exact propagation (:mod:`beltcalc.sim.batch`), where the batch
     can vouch for the run; None for the others (their single run). The scene's batch row
     (:class:`~beltcalc.sim.scenes.base.BatchRow`)."""
-    from beltcalc.sim.batch import MARGIN, exact_windows, resonance_separation, steady_stats, window_stats
+    from beltcalc.sim.batch import MARGIN, eigenvalues, exact_windows, resonance_separation, steady_stats, window_stats
+    from beltcalc.sim.frequency import poles_of
 
     if angle_loads or not steady_state_only and cfg.method not in ("auto", "exact"):
         return [None] * len(chunk)
@@ -460,7 +461,8 @@ def batched_rows(chunk: Sequence[dict], cfg, angle_loads: bool = False,
     wanted += ["omega_1", "M_motor"]
     est = cfg.estimate_error
     for idx, k, Y, err in exact_windows([nets[r] for r in runs], t, first, wanted, est):
-        seps = resonance_separation([nets[runs[jj]] for jj in idx])
+        lam = eigenvalues([nets[runs[jj]] for jj in idx])           # the poles of each run, one call
+        seps = resonance_separation([nets[runs[jj]] for jj in idx], lam)
         for j, jj in enumerate(idx):
             r = runs[jj]
             v, periods = vals[r], window[r][1]
@@ -483,9 +485,7 @@ def batched_rows(chunk: Sequence[dict], cfg, angle_loads: bool = False,
                 utils.append(RULES["resonance"].limit / seps[j] if seps[j] > 0 else math.inf)
             # settling_check: the transient left at the window start (the single run's check)
             if nets[r].size <= SETTLING_STATES:
-                from beltcalc.sim.frequency import poles
-
-                settled = settling_residual(nets[r], window[r][0], float(v["t_end"]), poles(nets[r]))
+                settled = settling_residual(nets[r], window[r][0], float(v["t_end"]), poles_of(lam[j]))
                 if settled is not None:
                     utils.append(settled[0] / RULES["window_settled"].limit)
             if max(utils) > 1 - MARGIN:

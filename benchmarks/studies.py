@@ -20,7 +20,8 @@ Run: python benchmarks/studies.py [--quick]
 * **Scaling** (issue 34): the two studies of the issue, each the ``beltcalc`` command a user
   types, with ``--json`` (its ``execution_profile``), in this process and on a local Dask
   cluster of every worker count asked (``--workers 1,2``: this machine's; ``1`` is this
-  process), each the best of ``--repeats`` runs taken in turn:
+  process), each the best of ``--repeats`` runs taken in turn (and every repeat's ratios to the
+  in-process run just before it):
 
   - sewing, the batched path: ``simulate sewing --vary 'C4=normal(260N*m/rad,5%)' --vary
     'U12=normal(1.375,2%)' --runs 50000 --seed 1``;
@@ -30,9 +31,11 @@ Run: python benchmarks/studies.py [--quick]
   Per row: the command's wall time end to end, the cluster's start, the compute wall time
   (first chunk sent to last chunk merged), the speed-up over this process with and without the
   start, the client's CPU per run and as a share of the workers' CPU, the workers' busy
-  fraction, and whether the JSON's statistics equal those of this process bit for bit.
-* **10^6 runs**: the per-run wall time of the batched path in one process, and on the most
-  workers measured, times 10^6.
+  fraction, whether the JSON's statistics equal those of this process bit for bit, and per repeat
+  the paired speed-up and the workers' CPU per run against this process's.
+* **10^6 runs**: the per-run compute time of the sewing study's command in one process, and on
+  the most workers measured (the scaling runs), and of one by one in this process (the per-run
+  rounds), times 10^6.
 
 BLAS single-threaded (OPENBLAS_NUM_THREADS=1, as the Dask workers run). The load average of the
 machine (shared with other jobs) is printed with the results. Writes
@@ -156,16 +159,23 @@ def study(args: list[str], runs: int, workers: int) -> dict:
 
 def scaling(label: str, args: list[str], runs: int, counts: list[int], repeats: int) -> dict:
     """The study on each worker count (1: this process), each the best (by end-to-end wall) of
-    ``repeats`` runs taken in turn."""
+    ``repeats`` runs taken in turn; with each, every repeat's ratios to the in-process run of the
+    same repeat (``paired``: compute time, end to end, the workers' CPU per run)."""
     best: dict[int, dict] = {}
     for _ in range(repeats):
+        here = None
         for w in counts:
             r = study(args, runs, w)
             print(f"{label}, {w} worker(s): {r['wall']:.2f} s end to end, compute {r['compute']:.2f} s, start "
                   f"{r['start']:.2f} s, client CPU {r['client_cpu']:.2f} s of {r['worker_cpu']:.2f} s, busy "
                   f"{r['busy']:.2f} ({r['how']}, {r['chunks']} chunks of {r['chunk']})", flush=True)
+            here = r if w == 1 else here
+            pair = (None if here is None else
+                    (here["compute"] / r["compute"], here["wall"] / r["wall"], r["worker_cpu"] / here["worker_cpu"]))
+            paired = best[w]["paired"] if w in best else []
             if w not in best or r["wall"] < best[w]["wall"]:
                 best[w] = r
+            best[w]["paired"] = paired + ([pair] if pair else [])
     return best
 
 
@@ -216,14 +226,19 @@ def scaling_lines(scale: dict) -> list[str]:
         lines += [f"### {titles[key].format(runs=f'{runs:,}')}", "",
                   "| workers | end to end [s] | cluster start [s] | compute [s] | speed-up, start included | "
                   "speed-up, start excluded | chunks x runs (the largest) | client CPU per run [ms] | client CPU / workers' CPU | "
-                  "workers busy | statistics as in this process |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "workers busy | statistics as in this process | each repeat, paired: speed-up without the start "
+                  "(end to end) | each repeat, paired: the workers' CPU per run / this process's |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for w, r in sorted(rows.items()):
             same = r["outputs"] == one["outputs"] and r["limits"] == one["limits"]
             share = "-" if w == 1 else f"{r['client_cpu'] / r['worker_cpu']:.2%}"
+            pairs = r.get("paired") or []
+            each = "-" if w == 1 else ", ".join(f"{c:.2f}x ({e:.2f}x)" for c, e, _ in pairs)
+            cpu = "-" if w == 1 else ", ".join(f"{k:.3f}" for _, _, k in pairs)
             lines.append(f"| {w if w > 1 else '1 (this process)'} | {r['wall']:.2f} | {r['start']:.2f} | "
                          f"{r['compute']:.2f} | {one['wall'] / r['wall']:.2f}x | {one['compute'] / r['compute']:.2f}x | "
                          f"{r['chunks']} x {r['chunk']:,} | {r['client_cpu'] / runs * 1e3:.4f} | {share} | "
-                         f"{r['busy']:.0%} | {'bit for bit' if same else 'NO'} |")
+                         f"{r['busy']:.0%} | {'bit for bit' if same else 'NO'} | {each} | {cpu} |")
         lines.append("")
     return lines
 
@@ -283,6 +298,9 @@ def write(cost, memory, scale, sizes, load0, load1, total) -> None:
     runs, rows = scale["sewing"]
     most = max(rows)
     per_run_most = rows[most]["compute"] / runs
+    # both batched rows from the scaling runs (minutes apart from the per-run rounds: the machine's
+    # speed moves between them), one by one from the rounds
+    per_run_here = rows[min(rows)]["compute"] / runs
     lines += [
         "",
         "Target flat: the growth stays within a few MiB (a chunk's rows, the 10,000-row reservoir) whatever "
@@ -297,14 +315,15 @@ def write(cost, memory, scale, sizes, load0, load1, total) -> None:
         "Dask's scheduler, which a local cluster runs in this process, and merging each chunk's part of the fold), "
         "and the workers' busy fraction (the chunks' wall time over workers x compute). \"Statistics as in this "
         "process\": the JSON's `outputs` and `limits` equal those of `--workers 1`, bit for bit. Best of "
-        "the repeats by end-to-end wall time.",
+        "the repeats by end-to-end wall time; the last two columns give every repeat against the in-process run "
+        "just before it (the machine's load moves from one minute to the next).",
         "",
         *scaling_lines(scale),
         "## 10^6 runs, extrapolated",
         "",
         "| execution | per run [ms] | 10^6 runs |",
         "|---|---|---|",
-        f"| batched, in this process | {b_wall * 1e3:.3f} | {b_wall * 1e6 / 60:.1f} min |",
+        f"| batched, in this process | {per_run_here * 1e3:.3f} | {per_run_here * 1e6 / 60:.1f} min |",
         f"| batched, {most} local workers | {per_run_most * 1e3:.3f} | {per_run_most * 1e6 / 60:.1f} min |",
         f"| one by one, in this process | {s_wall * 1e3:.3f} | {s_wall * 1e6 / 60:.1f} min |",
         "",

@@ -80,7 +80,7 @@ def poles(net, taut: tuple[bool, ...] | None = None) -> list[Pole]:
 
 def poles_of(lam: np.ndarray) -> list[Pole]:
     """:func:`poles` of the eigenvalues ``lam`` of a state matrix (a study's batch computes
-    them for a stack of runs at once: :func:`beltcalc.sim.batch.resonance_separation`)."""
+    them for a stack of runs at once: :func:`beltcalc.sim.batch.eigenvalues`)."""
     floor = _floor(lam)
     out = [_classify(s, floor) for s in lam if not (s.imag < -floor and abs(s) > floor)]
     rigid = [p for p in out if p.kind == "rigid"]

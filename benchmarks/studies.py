@@ -28,6 +28,10 @@ Run: python benchmarks/studies.py [--quick]
   - the conveyor drive file, one run at a time: ``simulate drive conveyor --vary
     'upper.pretension=normal(400N,5%)' --runs 400 --seed 1``.
 
+  With ``--conveyor-per-worker``, ``--conveyor-runs`` is the conveyor's runs a worker (W times
+  that on W workers) and its speed-ups are per run: issue 34's 4,000 runs on 16 workers against
+  one worker's 250 (``benchmarks/scaling_device.py`` runs that on a 16-core machine).
+
   Per row: the command's wall time end to end, the cluster's start, the compute wall time
   (first chunk sent to last chunk merged), the speed-up over this process with and without the
   start, the client's CPU per run and as a share of the workers' CPU, the workers' busy
@@ -147,31 +151,40 @@ def study(args: list[str], runs: int, workers: int) -> dict:
 
     t0 = time.perf_counter()
     done = subprocess.run([sys.executable, "-m", "beltcalc.cli.main", *args, "--runs", str(runs), "--workers",
-                           str(workers), "--json"], capture_output=True, text=True, check=True)
+                           str(workers), "--json"], capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"beltcalc {' '.join(args)} --runs {runs} --workers {workers}: exit {done.returncode}\n{done.stderr}")
     wall = time.perf_counter() - t0
     out = json.loads(done.stdout)
     prof = out["execution_profile"]
-    return {"wall": wall, "start": prof["cluster_start"]["value"], "compute": prof["compute_wall"]["value"],
+    return {"runs": runs, "wall": wall, "start": prof["cluster_start"]["value"], "compute": prof["compute_wall"]["value"],
             "client_cpu": prof["client_cpu"]["value"], "worker_cpu": prof["worker_cpu"]["value"],
             "busy": prof["worker_busy"]["value"], "chunks": prof["chunks"], "chunk": prof["runs_per_chunk"],
             "how": out["execution"], "outputs": out["outputs"], "limits": out["limits"]}
 
 
-def scaling(label: str, args: list[str], runs: int, counts: list[int], repeats: int) -> dict:
+def rate(r: dict, key: str) -> float:
+    """Seconds a run of the figure ``key`` (``compute``, ``wall``, ``worker_cpu``) of result ``r``."""
+    return r[key] / r["runs"]
+
+
+def scaling(label: str, args: list[str], runs: int, counts: list[int], repeats: int, per_worker: bool = False) -> dict:
     """The study on each worker count (1: this process), each the best (by end-to-end wall) of
     ``repeats`` runs taken in turn; with each, every repeat's ratios to the in-process run of the
-    same repeat (``paired``: compute time, end to end, the workers' CPU per run)."""
+    same repeat (``paired``: compute time, end to end, the workers' CPU per run; all per run).
+    ``per_worker``: ``runs`` runs a worker (W workers run W x ``runs``), as issue 34 measured
+    the conveyor (400 runs on one worker, 4,000 on 16): the speed-ups are then per run."""
     best: dict[int, dict] = {}
     for _ in range(repeats):
         here = None
         for w in counts:
-            r = study(args, runs, w)
+            r = study(args, runs * w if per_worker else runs, w)
             print(f"{label}, {w} worker(s): {r['wall']:.2f} s end to end, compute {r['compute']:.2f} s, start "
                   f"{r['start']:.2f} s, client CPU {r['client_cpu']:.2f} s of {r['worker_cpu']:.2f} s, busy "
                   f"{r['busy']:.2f} ({r['how']}, {r['chunks']} chunks of {r['chunk']})", flush=True)
             here = r if w == 1 else here
-            pair = (None if here is None else
-                    (here["compute"] / r["compute"], here["wall"] / r["wall"], r["worker_cpu"] / here["worker_cpu"]))
+            pair = None if here is None else tuple(rate(here, k) / rate(r, k) for k in ("compute", "wall")) + (
+                rate(r, "worker_cpu") / rate(here, "worker_cpu"),)
             paired = best[w]["paired"] if w in best else []
             if w not in best or r["wall"] < best[w]["wall"]:
                 best[w] = r
@@ -187,6 +200,9 @@ def main() -> None:
     ap.add_argument("--workers", default=",".join(str(w) for w in (1, 2, 4, 8, 16) if w <= (os.cpu_count() or 1)),
                     help="worker counts, comma-separated (1: in this process) [default: 1, 2, 4, ... up to the CPUs]")
     ap.add_argument("--repeats", type=int, default=2, help="runs of each study on each count (the best is kept)")
+    ap.add_argument("--conveyor-per-worker", action="store_true",
+                    help="--conveyor-runs runs a worker: W x that many on W workers (speed-ups per run; issue 34's "
+                         "4,000 runs on 16 workers: --conveyor-runs 250)")
     ap.add_argument("--only-scaling", action="store_true", help="the scaling tables only (e.g. on a larger machine)")
     args = ap.parse_args()
     load0 = os.getloadavg()
@@ -194,7 +210,8 @@ def main() -> None:
     counts = [int(w) for w in args.workers.split(",")]
     sewing_runs, conveyor_runs = (5_000, 60) if args.quick else (args.sewing_runs, args.conveyor_runs)
     scale = {"sewing": (sewing_runs, scaling("sewing", SEWING, sewing_runs, counts, args.repeats)),
-             "conveyor": (conveyor_runs, scaling("conveyor", CONVEYOR, conveyor_runs, counts, args.repeats))}
+             "conveyor": (conveyor_runs, scaling("conveyor", CONVEYOR, conveyor_runs, counts, args.repeats,
+                                                 args.conveyor_per_worker))}
     if args.only_scaling:
         print("\n".join(scaling_lines(scale)))
         return
@@ -223,7 +240,9 @@ def scaling_lines(scale: dict) -> list[str]:
     lines = []
     for key, (runs, rows) in scale.items():
         one = rows[min(rows)]
-        lines += [f"### {titles[key].format(runs=f'{runs:,}')}", "",
+        per_worker = any(r["runs"] != runs for r in rows.values())
+        shown = f"{runs:,} x W" if per_worker else f"{runs:,}"
+        lines += [f"### {titles[key].format(runs=shown)}", "",
                   "| workers | end to end [s] | cluster start [s] | compute [s] | speed-up, start included | "
                   "speed-up, start excluded | chunks x runs (the largest) | client CPU per run [ms] | client CPU / workers' CPU | "
                   "workers busy | statistics as in this process | each repeat, paired: speed-up without the start "
@@ -231,14 +250,20 @@ def scaling_lines(scale: dict) -> list[str]:
                   "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for w, r in sorted(rows.items()):
             same = r["outputs"] == one["outputs"] and r["limits"] == one["limits"]
+            same = "- (other runs)" if r["runs"] != one["runs"] else "bit for bit" if same else "NO"
+            where = "1 (this process)" if w == 1 else str(w) if "dask" in r["how"] else f"{w} (ran {r['how']})"
             share = "-" if w == 1 else f"{r['client_cpu'] / r['worker_cpu']:.2%}"
             pairs = r.get("paired") or []
             each = "-" if w == 1 else ", ".join(f"{c:.2f}x ({e:.2f}x)" for c, e, _ in pairs)
             cpu = "-" if w == 1 else ", ".join(f"{k:.3f}" for _, _, k in pairs)
-            lines.append(f"| {w if w > 1 else '1 (this process)'} | {r['wall']:.2f} | {r['start']:.2f} | "
-                         f"{r['compute']:.2f} | {one['wall'] / r['wall']:.2f}x | {one['compute'] / r['compute']:.2f}x | "
-                         f"{r['chunks']} x {r['chunk']:,} | {r['client_cpu'] / runs * 1e3:.4f} | {share} | "
-                         f"{r['busy']:.0%} | {'bit for bit' if same else 'NO'} | {each} | {cpu} |")
+            lines.append(f"| {where} | {r['wall']:.2f} | {r['start']:.2f} | "
+                         f"{r['compute']:.2f} | {rate(one, 'wall') / rate(r, 'wall'):.2f}x | "
+                         f"{rate(one, 'compute') / rate(r, 'compute'):.2f}x | "
+                         f"{r['chunks']} x {r['chunk']:,} | {rate(r, 'client_cpu') * 1e3:.4f} | {share} | "
+                         f"{r['busy']:.0%} | {same} | {each} | {cpu} |")
+        if per_worker:
+            each = ", ".join(f"{r['runs']:,} on {w}" for w, r in sorted(rows.items()))
+            lines.append(f"\n{runs:,} runs a worker ({each}): every speed-up is per run.")
         lines.append("")
     return lines
 
@@ -297,10 +322,10 @@ def write(cost, memory, scale, sizes, load0, load1, total) -> None:
                          f"{(rss - base[0]) / 2 ** 20:+.1f} | {wall:.1f} |")
     runs, rows = scale["sewing"]
     most = max(rows)
-    per_run_most = rows[most]["compute"] / runs
+    per_run_most = rate(rows[most], "compute")
     # both batched rows from the scaling runs (minutes apart from the per-run rounds: the machine's
     # speed moves between them), one by one from the rounds
-    per_run_here = rows[min(rows)]["compute"] / runs
+    per_run_here = rate(rows[min(rows)], "compute")
     lines += [
         "",
         "Target flat: the growth stays within a few MiB (a chunk's rows, the 10,000-row reservoir) whatever "
